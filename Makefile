@@ -1,0 +1,59 @@
+# The project's commands. Everything runs as root on Debian bookworm, with Debian's
+# python3 first on PATH (the machine's own python3 has no ROS modules).
+#   make run [ROBOT=skeleton]   install, build, start a simulated robot headless
+#   make test                   install, build, run every unit test and rostest
+#   make bench                  install, build, print the benchmarks' figures
+#   make deps | build | lint | clean
+
+SHELL := /bin/bash
+export PATH := /usr/bin:/bin:/usr/sbin:/sbin:$(PATH)
+export PYTHONNOUSERSITE := 1
+export ROS_PYTHON_VERSION := 3
+
+ROBOT ?= skeleton
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+JOBS ?= 2
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+SETUP := source $(ROOT)/devel/setup.bash
+
+# The one explicit list of Debian packages (rosdep has no index here).
+DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
+  ros-base-dev ros-core-dev libnodelet-dev pluginlib-dev libactionlib-dev python3-actionlib \
+  libdiagnostic-updater-dev python3-diagnostic-updater libdiagnostic-msgs-dev python3-diagnostic-msgs \
+  libnav-msgs-dev python3-nav-msgs libsensor-msgs-dev python3-sensor-msgs \
+  libgeometry-msgs-dev python3-geometry-msgs libvisualization-msgs-dev python3-visualization-msgs \
+  libstd-srvs-dev python3-std-srvs libtf2-ros-dev python3-tf2-ros libtf2-geometry-msgs-dev python3-tf2-geometry-msgs \
+  librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-roslaunch python3-rosnode \
+  python3-rostopic python3-rosservice python3-rosparam rosout \
+  ros-robot-state-publisher liburdf-dev libcv-bridge-dev python3-cv-bridge libimage-transport-dev libopencv-dev \
+  libmrpt-dev libmrpt-ros1bridge-dev libeigen3-dev \
+  libgtest-dev libgmock-dev googletest python3-nose python3-numpy \
+  can-utils iproute2 socat
+
+.PHONY: deps build run test bench lint clean
+
+deps:
+	@if dpkg -s $(DEPS) >/dev/null 2>&1; then echo "deps: all Debian packages present"; else \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $(DEPS) >/dev/null && \
+	  echo "deps: installed"; fi
+
+build: deps
+	cd $(ROOT) && catkin_make -j$(JOBS) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+	  -DCATKIN_ENABLE_TESTING=ON
+
+run: build
+	@echo "run: starting the simulated $(ROBOT) robot headless (Ctrl-C to stop)"
+	$(SETUP) && roslaunch $(ROOT)/launch/$(ROBOT).launch
+
+test: build
+	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_tests.sh
+
+bench: build
+	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_bench.sh
+
+lint: deps
+	catkin_lint -W1 $(ROOT)/src
+
+clean:
+	rm -rf $(ROOT)/build $(ROOT)/devel

@@ -1,0 +1,71 @@
+// The Device: what every HAL device implements (the original design's init/refresh/halt).
+// A device turns raw board values into physical meaning and offers a hardware-independent
+// interface to the brain. The framework (DeviceNodelet) calls:
+//   init(ctx)   once: read ~parameters (throw hcl_drivers::ParameterError), declare inputs with
+//               addInput(), advertise outputs.
+//   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
+//               inputs, compute, publish. Call setUnavailable("why") when it cannot.
+//   halt()      on shutdown.
+#pragma once
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <hcl_drivers/parameters.h>
+#include <ros/ros.h>
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "hal_nodes/latest_value.h"
+
+namespace hal_nodes {
+
+using hcl_drivers::ParameterError;
+
+struct DeviceContext {
+  ros::NodeHandle nh;   // the HAL process namespace (global topics)
+  ros::NodeHandle pnh;  // the device's private namespace
+  std::string name;     // e.g. "/hal/example_device"
+  double rate = 0.0;    // configured refresh rate [Hz], validated
+};
+
+class Device {
+ public:
+  virtual ~Device() = default;
+
+  virtual void init(DeviceContext& ctx) = 0;
+  virtual void refresh() = 0;
+  virtual void halt() {}
+  virtual void diagnose(diagnostic_updater::DiagnosticStatusWrapper& /*stat*/) {}
+
+  // Framework side: inputs for diagnostics, and whether the device is usable.
+  const std::vector<std::shared_ptr<InputStatus>>& inputs() const { return inputs_; }
+  bool available(std::string* reason) const {
+    std::lock_guard<std::mutex> lk(status_mutex_);
+    if (reason) *reason = unavailable_reason_;
+    return unavailable_reason_.empty();
+  }
+
+ protected:
+  // Subscribe to an input topic in the pull model; `name` labels it on /diagnostics.
+  template <class M>
+  std::shared_ptr<LatestValue<M>> addInput(ros::NodeHandle& nh, const std::string& topic, const std::string& name) {
+    auto input = std::make_shared<LatestValue<M>>(nh, topic, name);
+    inputs_.push_back(input);
+    return input;
+  }
+
+  void setAvailable() { setUnavailable(""); }
+  void setUnavailable(const std::string& reason) {
+    std::lock_guard<std::mutex> lk(status_mutex_);
+    unavailable_reason_ = reason;
+  }
+
+ private:
+  std::vector<std::shared_ptr<InputStatus>> inputs_;
+  mutable std::mutex status_mutex_;
+  std::string unavailable_reason_ = "not refreshed yet";
+};
+
+}  // namespace hal_nodes

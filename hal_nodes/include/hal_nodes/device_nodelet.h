@@ -1,0 +1,64 @@
+// The nodelet that hosts one Device: validates ~rate, runs refresh() on a timer, follows
+// /effectors/deactivated for effectors, and reports on /diagnostics: rate achieved, the
+// sample age of every input, and why the device is unavailable.
+//
+// Common parameters: ~rate [Hz] (required, > 0), ~diagnostic_period [s] (default 0.25).
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <hcl_drivers/rate_meter.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <std_msgs/Bool.h>
+
+#include <memory>
+#include <mutex>
+
+#include "hal_nodes/device.h"
+#include "hal_nodes/effector.h"
+
+namespace hal_nodes {
+
+class DeviceNodeletBase : public nodelet::Nodelet {
+ public:
+  ~DeviceNodeletBase() override;
+
+ protected:
+  virtual std::unique_ptr<Device> createDevice() const = 0;
+
+ private:
+  void onInit() final;
+  void onTimer(const ros::TimerEvent& e);
+  void onDeactivated(const std_msgs::Bool::ConstPtr& msg);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::unique_ptr<Device> device_;
+  Effector* effector_ = nullptr;  // device_ when it is an effector
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::Timer refresh_timer_;
+  ros::WallTimer diagnostic_timer_;
+  ros::Subscriber deactivated_sub_;
+  double rate_ = 0.0;
+
+  std::mutex refresh_mutex_;  // refresh() and deactivate() never interleave
+  mutable std::mutex stats_mutex_;
+  hcl_drivers::RateMeter meter_;
+  unsigned long refresh_errors_ = 0;
+  std::string last_error_;
+};
+
+template <class DeviceT>
+class DeviceNodelet : public DeviceNodeletBase {
+ protected:
+  std::unique_ptr<Device> createDevice() const override { return std::make_unique<DeviceT>(); }
+};
+
+}  // namespace hal_nodes
+
+// Export a device type as a nodelet plugin; add a matching entry to nodelet_plugins.xml with
+// name="hal_nodes/<DeviceName>" type="hal_nodes::<DeviceName>Nodelet".
+#define HAL_EXPORT_DEVICE(DeviceName)                                                    \
+  namespace hal_nodes {                                                                  \
+  using DeviceName##Nodelet = DeviceNodelet<DeviceName>;                                 \
+  }                                                                                      \
+  PLUGINLIB_EXPORT_CLASS(hal_nodes::DeviceName##Nodelet, nodelet::Nodelet)

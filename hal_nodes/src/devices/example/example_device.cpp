@@ -1,0 +1,77 @@
+// ExampleDevice: the skeleton's device. Turns the example board's dial ADC into a position
+// 0..1 and drives the board's lamp from a brightness 0..1. An Effector: deactivation turns
+// the lamp off and ignores brightness commands. Copy this file to start a new device.
+//
+// Parameters (besides ~rate):
+//   ~board_state    the board's state topic (default /hcl/example_board/state)
+//   ~board_lamp     the board's lamp command topic (default /hcl/example_board/lamp_pwm)
+//   ~max_input_age  [s] older board data makes the device unavailable (default 0.5)
+//   ~max_command_age [s] an older brightness command is dropped, lamp off (default 0.5)
+// Topics: ~reading (hal_nodes/ExampleReading, out), ~lamp (std_msgs/Float64 brightness, in).
+#include <hal_nodes/ExampleReading.h>
+#include <hcl_drivers/ExampleBoardState.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/UInt8.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hal_nodes/device_nodelet.h"
+
+namespace hal_nodes {
+
+class ExampleDevice : public Effector {
+ public:
+  void init(DeviceContext& ctx) override {
+    using hcl_drivers::optionalDouble;
+    using hcl_drivers::optionalString;
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    hcl_drivers::requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    max_command_age_ = optionalDouble(ctx.pnh, "max_command_age", 0.5);
+    hcl_drivers::requirePositive(ctx.pnh, "max_command_age", max_command_age_);
+    board_ = addInput<hcl_drivers::ExampleBoardState>(
+        ctx.nh, optionalString(ctx.pnh, "board_state", "/hcl/example_board/state"), "board");
+    brightness_ = addInput<std_msgs::Float64>(ctx.pnh, "lamp", "lamp command");
+    lamp_pub_ = ctx.nh.advertise<std_msgs::UInt8>(optionalString(ctx.pnh, "board_lamp", "/hcl/example_board/lamp_pwm"), 1);
+    reading_pub_ = ctx.pnh.advertise<ExampleReading>("reading", 1);
+  }
+
+  void refresh() override {
+    const auto board = board_->fresh(max_input_age_);
+    if (!board) {
+      setUnavailable("no fresh data from the example board (input age " + std::to_string(board_->age()) + " s)");
+    } else {
+      setAvailable();
+      ExampleReading r;
+      r.header.stamp = board->header.stamp;
+      r.position = static_cast<double>(board->dial_raw) / 1023.0;
+      r.input_age = (ros::Time::now() - board->header.stamp).toSec();
+      reading_pub_.publish(r);
+    }
+    if (!active()) return;  // deactivated: deactivate() switched the lamp off, stay quiet
+    const auto cmd = brightness_->fresh(max_command_age_);
+    // No recent command: lamp off (the board's own command timeout would do it too).
+    publishLamp(cmd ? cmd->data : 0.0);
+  }
+
+  void deactivate() override { publishLamp(0.0); }
+
+ private:
+  void publishLamp(double brightness) {
+    if (!std::isfinite(brightness)) brightness = 0.0;
+    std_msgs::UInt8 pwm;
+    pwm.data = static_cast<uint8_t>(std::lround(255.0 * std::clamp(brightness, 0.0, 1.0)));
+    lamp_pub_.publish(pwm);
+  }
+
+  std::shared_ptr<LatestValue<hcl_drivers::ExampleBoardState>> board_;
+  std::shared_ptr<LatestValue<std_msgs::Float64>> brightness_;
+  ros::Publisher lamp_pub_;
+  ros::Publisher reading_pub_;
+  double max_input_age_ = 0.5;
+  double max_command_age_ = 0.5;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(ExampleDevice)

@@ -1,0 +1,54 @@
+// The Board: what every HCL driver implements. One instance per physical circuit board.
+//
+// A board mirrors its firmware's variables and never interprets them (that is HAL's job).
+// The framework (BoardNodelet) calls:
+//   init(ctx)   once, at load: read ~parameters, open the bus, advertise ~state, subscribe commands.
+//               Throw ParameterError for bad configuration: the node stops with that one line.
+//   service()   at the configured ~rate on a polling thread (never the nodelet callback queue):
+//               send pending commands, read the variables, publish the latched state.
+//               Return true when the board answered; on failure call fail("why") and return false.
+//   halt()      on shutdown and whenever commands went stale: put the board in a safe state.
+// Command callbacks run on the nodelet callback queue, concurrently with service(): guard
+// shared state with a mutex.
+#pragma once
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <ros/ros.h>
+
+#include <string>
+
+#include "hcl_drivers/parameters.h"
+
+namespace hcl_drivers {
+
+// Everything a board needs from its host at init().
+struct BoardContext {
+  ros::NodeHandle nh;   // the manager's namespace (global topics)
+  ros::NodeHandle pnh;  // the board's private namespace: ~rate, ~state, ...
+  std::string name;     // the board's node name, e.g. "/hcl/example_board"
+  double rate = 0.0;    // configured polling rate [Hz], already validated
+};
+
+class Board {
+ public:
+  virtual ~Board() = default;
+
+  virtual void init(BoardContext& ctx) = 0;
+  virtual bool service() = 0;
+  virtual void halt() = 0;
+
+  // Board-specific diagnostic values (firmware version, bus counters, ...). Optional.
+  virtual void diagnose(diagnostic_updater::DiagnosticStatusWrapper& /*stat*/) {}
+
+  // Read by the framework after service() returned false.
+  const std::string& lastError() const { return last_error_; }
+
+ protected:
+  // Record why the last exchange failed (shown on /diagnostics, counted by the framework).
+  void fail(const std::string& reason) { last_error_ = reason; }
+
+ private:
+  std::string last_error_;
+};
+
+}  // namespace hcl_drivers

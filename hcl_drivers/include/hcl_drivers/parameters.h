@@ -1,0 +1,39 @@
+// Reading ~parameters strictly: a missing or out-of-range value stops the node at start
+// with one line naming the parameter and what is allowed, never a silent default.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hcl_drivers {
+
+// Thrown for bad configuration. what() is the one line the user sees.
+class ParameterError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Required parameters: throw ParameterError when missing or of the wrong type.
+double requireDouble(const ros::NodeHandle& pnh, const std::string& name);
+int requireInt(const ros::NodeHandle& pnh, const std::string& name);
+std::string requireString(const ros::NodeHandle& pnh, const std::string& name);
+
+// Optional parameters with a documented default; a present value of the wrong type still throws.
+double optionalDouble(const ros::NodeHandle& pnh, const std::string& name, double fallback);
+int optionalInt(const ros::NodeHandle& pnh, const std::string& name, int fallback);
+bool optionalBool(const ros::NodeHandle& pnh, const std::string& name, bool fallback);
+std::string optionalString(const ros::NodeHandle& pnh, const std::string& name, const std::string& fallback);
+
+// Range checks: throw ParameterError("<ns>/<name> = <v>: must be ...").
+void requirePositive(const ros::NodeHandle& pnh, const std::string& name, double value);
+void requireInRange(const ros::NodeHandle& pnh, const std::string& name, double value, double lo, double hi);
+void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& value,
+                  const std::vector<std::string>& allowed);
+
+// The fully resolved parameter name, for messages.
+std::string qualified(const ros::NodeHandle& pnh, const std::string& name);
+
+}  // namespace hcl_drivers

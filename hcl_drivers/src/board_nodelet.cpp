@@ -1,0 +1,145 @@
+#include "hcl_drivers/board_nodelet.h"
+
+#include <diagnostic_msgs/DiagnosticStatus.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "hcl_drivers/loop_scheduler.h"
+#include "hcl_drivers/parameters.h"
+
+namespace hcl_drivers {
+
+using diagnostic_msgs::DiagnosticStatus;
+
+BoardNodeletBase::~BoardNodeletBase() {
+  diagnostic_timer_.stop();
+  if (joined_) LoopScheduler::instance().leave(member_name_);  // no service() runs after this
+  if (board_) {
+    try {
+      board_->halt();
+    } catch (const std::exception& e) {
+      ROS_ERROR("%s: halt() failed on shutdown: %s", member_name_.c_str(), e.what());
+    }
+  }
+}
+
+void BoardNodeletBase::onInit() {
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  member_name_ = getName();
+  try {
+    BoardContext ctx{getNodeHandle(), pnh, getName(), 0.0};
+    ctx.rate = requireDouble(pnh, "rate");
+    requirePositive(pnh, "rate", ctx.rate);
+    rate_ = ctx.rate;
+    stale_timeout_ = optionalDouble(pnh, "stale_timeout", std::max(0.3, 3.0 / rate_));
+    requirePositive(pnh, "stale_timeout", stale_timeout_);
+    const std::string loop = optionalString(pnh, "loop", "");
+    const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 0.25);
+    requirePositive(pnh, "diagnostic_period", diagnostic_period);
+    pnh.setParam("diagnostic_period", diagnostic_period);  // read by diagnostic_updater
+
+    board_ = createBoard();
+    board_->init(ctx);
+
+    updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
+    updater_->setHardwareID(getName());
+    updater_->add("board", this, &BoardNodeletBase::diagnose);
+    // The updater is driven from the callback queue, not the polling thread, so a board
+    // stuck in I/O is still reported.
+    diagnostic_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
+      updater_->update();
+    });
+
+    started_ = ros::Time::now();
+    LoopScheduler::instance().join(loop, member_name_, rate_, [this] { serviceOnce(); });
+    joined_ = true;
+    NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), rate_,
+                 LoopScheduler::instance().loopOf(member_name_).c_str());
+  } catch (const ParameterError& e) {
+    NODELET_FATAL("%s", e.what());
+    throw;
+  } catch (const std::exception& e) {
+    NODELET_FATAL("board %s failed to start: %s", getName().c_str(), e.what());
+    throw;
+  }
+}
+
+void BoardNodeletBase::serviceOnce() {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const ros::Time start = ros::Time::now();
+  bool ok = false;
+  std::string error;
+  try {
+    ok = board_->service();
+    if (!ok) error = board_->lastError().empty() ? "board did not answer" : board_->lastError();
+  } catch (const std::exception& e) {
+    error = std::string("exception in service(): ") + e.what();
+  }
+  const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+  bool halt_now = false;
+  {
+    std::lock_guard<std::mutex> lk(stats_mutex_);
+    meter_.tick(start.toSec(), busy);
+    ++exchanges_;
+    if (ok) {
+      last_good_ = ros::Time::now();
+      consecutive_errors_ = 0;
+      halted_for_staleness_ = false;
+    } else {
+      ++errors_;
+      ++consecutive_errors_;
+      last_error_ = error;
+      const ros::Time since = last_good_.isZero() ? started_ : last_good_;
+      if (!halted_for_staleness_ && (ros::Time::now() - since).toSec() > stale_timeout_) {
+        halted_for_staleness_ = true;
+        halt_now = true;
+      }
+    }
+  }
+  if (halt_now) {
+    NODELET_ERROR("%s not answering for %.2f s (%s): halting it", getName().c_str(), stale_timeout_, error.c_str());
+    try {
+      board_->halt();
+    } catch (const std::exception& e) {
+      NODELET_ERROR("%s: halt() failed: %s", getName().c_str(), e.what());
+    }
+  }
+}
+
+void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lk(stats_mutex_);
+  const ros::Time now = ros::Time::now();
+  const double achieved = meter_.rate();
+  const double age = last_good_.isZero() ? -1.0 : (now - last_good_).toSec();
+  const double since_start = (now - started_).toSec();
+
+  if (last_good_.isZero() && since_start > stale_timeout_) {
+    stat.summaryf(DiagnosticStatus::STALE, "no answer from the board since start: %s", last_error_.c_str());
+  } else if (age > stale_timeout_) {
+    stat.summaryf(DiagnosticStatus::STALE, "board not answering for %.2f s: %s", age, last_error_.c_str());
+  } else if (consecutive_errors_ > 0) {
+    stat.summaryf(DiagnosticStatus::ERROR, "last exchange failed: %s", last_error_.c_str());
+  } else if (last_good_.isZero()) {
+    stat.summary(DiagnosticStatus::OK, "starting");
+  } else if (meter_.count() > 2 && achieved < 0.8 * rate_) {
+    stat.summaryf(DiagnosticStatus::WARN, "polling at %.1f Hz, configured %.1f Hz", achieved, rate_);
+  } else {
+    stat.summary(DiagnosticStatus::OK, "ok");
+  }
+  stat.add("loop", LoopScheduler::instance().loopOf(member_name_));
+  stat.addf("configured rate [Hz]", "%.2f", rate_);
+  stat.addf("achieved rate [Hz]", "%.2f", achieved);
+  stat.addf("max period error [ms]", "%.3f", 1e3 * meter_.maxPeriodError(1.0 / rate_));
+  stat.addf("mean service time [ms]", "%.3f", 1e3 * meter_.meanBusy());
+  stat.addf("max service time [ms]", "%.3f", 1e3 * meter_.maxBusy());
+  stat.addf("last good exchange age [s]", "%.3f", age);
+  stat.add("exchanges", exchanges_);
+  stat.add("errors", errors_);
+  stat.add("consecutive errors", consecutive_errors_);
+  stat.add("last error", last_error_);
+  board_->diagnose(stat);
+}
+
+}  // namespace hcl_drivers

@@ -1,0 +1,145 @@
+// ExampleBoard: the skeleton robot's board. A dial (10-bit ADC) in, a lamp (8-bit PWM) out,
+// over UDP (example_protocol.h). Copy this file to start a new board.
+//
+// Parameters (besides the common ones in board_nodelet.h):
+//   ~endpoint         udp://HOST:PORT of the board (required)
+//   ~answer_timeout   [s] how long to wait for an answer (default min(0.02, 0.5 / rate))
+//   ~command_timeout  [s] a lamp command older than this is dropped and the lamp switched
+//                     off (default 0.5); the pattern every actuator board follows
+// Topics: ~state (hcl_drivers/ExampleBoardState, latched), ~lamp_pwm (std_msgs/UInt8, in).
+#include <hcl_drivers/ExampleBoardState.h>
+#include <std_msgs/UInt8.h>
+
+#include <memory>
+#include <mutex>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/example_protocol.h"
+#include "hcl_drivers/transport/endpoint.h"
+#include "hcl_drivers/transport/udp_socket.h"
+
+namespace hcl_drivers {
+
+class ExampleBoard : public Board {
+ public:
+  void init(BoardContext& ctx) override {
+    const std::string url = requireString(ctx.pnh, "endpoint");
+    transport::Endpoint ep;
+    try {
+      ep = transport::parseEndpoint(url);
+    } catch (const std::invalid_argument& e) {
+      throw ParameterError("parameter " + qualified(ctx.pnh, "endpoint") + ": " + e.what());
+    }
+    if (ep.scheme != "udp") throw ParameterError("parameter " + qualified(ctx.pnh, "endpoint") + " = '" + url + "': the example board speaks udp://HOST:PORT only");
+    answer_timeout_ = optionalDouble(ctx.pnh, "answer_timeout", std::min(0.02, 0.5 / ctx.rate));
+    requirePositive(ctx.pnh, "answer_timeout", answer_timeout_);
+    command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.5);
+    requirePositive(ctx.pnh, "command_timeout", command_timeout_);
+
+    socket_ = std::make_unique<transport::UdpSocket>(ep.host, ep.port);
+    state_pub_ = ctx.pnh.advertise<ExampleBoardState>("state", 1, true);
+    lamp_sub_ = ctx.pnh.subscribe("lamp_pwm", 1, &ExampleBoard::onLamp, this);
+  }
+
+  bool service() override {
+    const uint8_t lamp = lampToApply();
+    const uint8_t seq = ++seq_;
+    socket_->drain();  // answers to earlier requests that timed out
+    if (!socket_->send(example_protocol::encodeRequest(seq, lamp))) {
+      fail(socket_->lastError());
+      return false;
+    }
+    std::vector<uint8_t> datagram;
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(answer_timeout_);
+    while (true) {
+      const double left = (deadline - ros::WallTime::now()).toSec();
+      if (left <= 0.0 || !socket_->receive(datagram, left)) {
+        fail("no answer: " + socket_->lastError());
+        return false;
+      }
+      const auto reply = example_protocol::decodeReply(datagram);
+      if (!reply) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        ++malformed_;  // counted and dropped; keep waiting for the real answer
+        continue;
+      }
+      if (reply->seq != seq) continue;  // a late answer to an older request
+      publish(*reply);
+      return true;
+    }
+  }
+
+  void halt() override {
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      lamp_command_ = 0;
+      lamp_stamp_ = ros::Time();
+    }
+    if (socket_) socket_->send(example_protocol::encodeRequest(++seq_, 0));  // best effort: lamp off
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.add("malformed answers", malformed_);
+    stat.add("board resets seen", resets_);
+    stat.add("commands dropped as stale", stale_commands_);
+    stat.add("lamp pwm commanded", static_cast<int>(lamp_command_));
+  }
+
+ private:
+  void onLamp(const std_msgs::UInt8::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    lamp_command_ = msg->data;
+    lamp_stamp_ = ros::Time::now();
+  }
+
+  // The commanded PWM, or 0 when the last command is older than ~command_timeout.
+  uint8_t lampToApply() {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (lamp_stamp_.isZero()) return 0;
+    if ((ros::Time::now() - lamp_stamp_).toSec() > command_timeout_) {
+      ++stale_commands_;
+      lamp_stamp_ = ros::Time();
+      lamp_command_ = 0;
+      ROS_WARN("example board: no lamp command for %.2f s, lamp off", command_timeout_);
+      return 0;
+    }
+    return lamp_command_;
+  }
+
+  void publish(const example_protocol::Reply& r) {
+    if (have_uptime_ && r.uptime_ms < last_uptime_) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      ++resets_;
+      ROS_WARN("example board reset (uptime %u ms -> %u ms)", last_uptime_, r.uptime_ms);
+    }
+    have_uptime_ = true;
+    last_uptime_ = r.uptime_ms;
+    ExampleBoardState::Ptr s(new ExampleBoardState);
+    s->header.stamp = ros::Time::now();
+    s->dial_raw = r.dial_raw;
+    s->lamp_pwm = r.lamp_pwm;
+    s->uptime_ms = r.uptime_ms;
+    state_pub_.publish(s);
+  }
+
+  std::unique_ptr<transport::UdpSocket> socket_;
+  ros::Publisher state_pub_;
+  ros::Subscriber lamp_sub_;
+  double answer_timeout_ = 0.02;
+  double command_timeout_ = 0.5;
+  uint8_t seq_ = 0;
+  bool have_uptime_ = false;
+  uint32_t last_uptime_ = 0;
+
+  std::mutex mutex_;  // command callback vs polling thread vs diagnostics
+  uint8_t lamp_command_ = 0;
+  ros::Time lamp_stamp_;
+  unsigned long malformed_ = 0;
+  unsigned long resets_ = 0;
+  unsigned long stale_commands_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(ExampleBoard)

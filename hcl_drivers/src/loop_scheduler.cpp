@@ -1,0 +1,156 @@
+#include "hcl_drivers/loop_scheduler.h"
+
+#include <ros/ros.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace hcl_drivers {
+
+// One polling thread servicing its members in turn, each when its own period is due.
+class LoopScheduler::Loop {
+ public:
+  explicit Loop(std::string name) : name_(std::move(name)), thread_([this] { run(); }) {}
+
+  ~Loop() {
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+
+  void add(const std::string& member, double rate_hz, Work work) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    members_.push_back(std::make_shared<Member>(Member{member, ros::Duration(1.0 / rate_hz), ros::Time(), std::move(work)}));
+    cv_.notify_all();
+  }
+
+  // Returns true when the loop has no members left.
+  bool remove(const std::string& member) {
+    std::unique_lock<std::mutex> lk(mutex_);
+    members_.erase(std::remove_if(members_.begin(), members_.end(),
+                                  [&](const std::shared_ptr<Member>& m) { return m->name == member; }),
+                   members_.end());
+    // The member may be running right now, outside the lock: wait until it returns.
+    cv_.wait(lk, [&] { return running_ != member; });
+    return members_.empty();
+  }
+
+  std::vector<std::string> names() const {
+    std::lock_guard<std::mutex> lk(mutex_);
+    std::vector<std::string> out;
+    for (const auto& m : members_) out.push_back(m->name);
+    return out;
+  }
+
+ private:
+  struct Member {
+    std::string name;
+    ros::Duration period;
+    ros::Time next_due;
+    Work work;
+  };
+
+  void run() {
+    std::unique_lock<std::mutex> lk(mutex_);
+    while (!stop_) {
+      const ros::Time now = ros::Time::now();
+      if (members_.empty() || now.isZero()) {  // nothing to do, or simulated time not started yet
+        cv_.wait_for(lk, std::chrono::milliseconds(10));
+        continue;
+      }
+      ros::Time earliest;
+      const auto snapshot = members_;  // members may leave while one is being serviced
+      for (const auto& m : snapshot) {
+        if (stop_) break;
+        if (std::find(members_.begin(), members_.end(), m) == members_.end()) continue;  // left meanwhile
+        const ros::Time t = ros::Time::now();
+        if (m->next_due.isZero()) m->next_due = t;
+        if (t >= m->next_due) {
+          running_ = m->name;
+          lk.unlock();
+          m->work();
+          lk.lock();
+          running_.clear();
+          cv_.notify_all();
+          m->next_due += m->period;
+          // Fell behind by more than a period: skip the missed cycles rather than bursting.
+          if (m->next_due < t) m->next_due = t + m->period;
+        }
+        if (earliest.isZero() || m->next_due < earliest) earliest = m->next_due;
+      }
+      if (stop_ || earliest.isZero()) continue;
+      const double wait = (earliest - ros::Time::now()).toSec();
+      if (wait <= 0.0) continue;
+      // Under simulated time, wall time and ROS time differ by the real-time factor: wake
+      // often enough to notice the clock moving; in wall time sleep exactly.
+      const double wall_wait = ros::Time::isSimTime() ? std::min(wait, 0.002) : wait;
+      cv_.wait_for(lk, std::chrono::duration<double>(wall_wait));
+    }
+  }
+
+  std::string name_;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<std::shared_ptr<Member>> members_;
+  std::string running_;
+  bool stop_ = false;
+  std::thread thread_;  // last: starts after everything above is constructed
+};
+
+LoopScheduler& LoopScheduler::instance() {
+  static LoopScheduler scheduler;
+  return scheduler;
+}
+
+LoopScheduler::~LoopScheduler() {
+  std::lock_guard<std::mutex> lk(mutex_);
+  loops_.clear();
+}
+
+void LoopScheduler::join(const std::string& loop, const std::string& member, double rate_hz, Work work) {
+  const std::string loop_name = loop.empty() ? "own:" + member : loop;
+  std::shared_ptr<Loop> target;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    auto& slot = loops_[loop_name];
+    if (!slot) slot = std::make_shared<Loop>(loop_name);
+    target = slot;
+    loop_of_member_[member] = loop_name;
+  }
+  target->add(member, rate_hz, std::move(work));
+}
+
+void LoopScheduler::leave(const std::string& member) {
+  std::shared_ptr<Loop> loop;
+  std::string loop_name;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    auto it = loop_of_member_.find(member);
+    if (it == loop_of_member_.end()) return;
+    loop_name = it->second;
+    loop_of_member_.erase(it);
+    loop = loops_[loop_name];
+  }
+  if (loop && loop->remove(member)) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    auto it = loops_.find(loop_name);
+    if (it != loops_.end() && it->second == loop && loop->names().empty()) loops_.erase(it);
+  }
+}
+
+std::vector<std::string> LoopScheduler::members(const std::string& loop) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = loops_.find(loop);
+  return it == loops_.end() ? std::vector<std::string>{} : it->second->names();
+}
+
+std::string LoopScheduler::loopOf(const std::string& member) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = loop_of_member_.find(member);
+  return it == loop_of_member_.end() ? std::string() : it->second;
+}
+
+}  // namespace hcl_drivers

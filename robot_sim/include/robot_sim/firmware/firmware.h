@@ -1,0 +1,42 @@
+// A Firmware is the emulator of one board's firmware: it owns the board's end of the
+// channel (a UDP port, a CAN bus, a pty, an i2c socket) and answers with the same bytes the
+// real board would, reading and driving the simulated world when there is one.
+//
+// Emulators are independent implementations of the board side, written from the board's
+// protocol documentation, never by calling the driver's encoder: a shared bug would hide.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <atomic>
+#include <string>
+
+namespace robot_sim {
+
+class World;  // the simulated world (robot_sim/world), absent for world-less emulators
+
+struct FirmwareContext {
+  ros::NodeHandle nh;   // global namespace: publish truth under /sim/...
+  ros::NodeHandle pnh;  // the emulator's own parameters
+  std::string name;     // e.g. "example_board"
+  World* world = nullptr;
+};
+
+class Firmware {
+ public:
+  virtual ~Firmware() = default;
+
+  // Open the channel and start answering. Throw std::runtime_error on bad parameters.
+  virtual void start(FirmwareContext& ctx) = 0;
+  // Stop answering and close the channel.
+  virtual void stop() = 0;
+
+  // Fault injection: a silent board keeps running but never answers.
+  void setSilent(bool silent) { silent_ = silent; }
+  bool silent() const { return silent_; }
+
+ private:
+  std::atomic<bool> silent_{false};
+};
+
+}  // namespace robot_sim

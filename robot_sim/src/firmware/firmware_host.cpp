@@ -1,0 +1,62 @@
+#include "robot_sim/firmware/firmware_host.h"
+
+#include <sstream>
+
+#include "robot_sim/firmware/firmware_registry.h"
+
+namespace robot_sim {
+
+FirmwareHost::FirmwareHost(ros::NodeHandle nh, ros::NodeHandle pnh, World* world)
+    : nh_(std::move(nh)), pnh_(std::move(pnh)), world_(world) {}
+
+FirmwareHost::~FirmwareHost() { stopAll(); }
+
+bool FirmwareHost::startFromParameters() {
+  XmlRpc::XmlRpcValue all;
+  if (!pnh_.getParam(pnh_.getNamespace(), all) || all.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+    ROS_FATAL("no emulators configured under %s", pnh_.getNamespace().c_str());
+    return false;
+  }
+  for (auto& entry : all) {
+    XmlRpc::XmlRpcValue& block = entry.second;
+    if (block.getType() != XmlRpc::XmlRpcValue::TypeStruct || !block.hasMember("type")) continue;
+    const std::string param = pnh_.getNamespace() + "/" + entry.first;
+    if (block.hasMember("enabled") && block["enabled"].getType() == XmlRpc::XmlRpcValue::TypeBoolean &&
+        !static_cast<bool>(block["enabled"]))
+      continue;
+    const std::string type = block["type"].getType() == XmlRpc::XmlRpcValue::TypeString
+                                 ? static_cast<std::string>(block["type"])
+                                 : std::string();
+    auto fw = FirmwareRegistry::instance().create(type);
+    if (!fw) {
+      std::ostringstream allowed;
+      const auto types = FirmwareRegistry::instance().types();
+      for (std::size_t i = 0; i < types.size(); ++i) allowed << (i ? ", " : "") << types[i];
+      ROS_FATAL("parameter %s/type = '%s': unknown emulator type; allowed values: %s", param.c_str(), type.c_str(),
+                allowed.str().c_str());
+      return false;
+    }
+    FirmwareContext ctx{nh_, ros::NodeHandle(pnh_, entry.first), entry.first, world_};
+    try {
+      fw->start(ctx);
+    } catch (const std::exception& e) {
+      ROS_FATAL("emulator %s failed to start: %s", param.c_str(), e.what());
+      return false;
+    }
+    ROS_INFO("emulating board %s (%s)", entry.first.c_str(), type.c_str());
+    firmware_[entry.first] = std::move(fw);
+  }
+  return true;
+}
+
+Firmware* FirmwareHost::find(const std::string& name) const {
+  auto it = firmware_.find(name);
+  return it == firmware_.end() ? nullptr : it->second.get();
+}
+
+void FirmwareHost::stopAll() {
+  for (auto& kv : firmware_) kv.second->stop();
+  firmware_.clear();
+}
+
+}  // namespace robot_sim

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Runs every test (gtest, nosetests, rostest) and prints one summary. Called by `make test`
+# with the workspace sourced. Exits non-zero on any failure or error.
+set -uo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+rm -rf build/test_results
+echo "== catkin_lint"
+lint_out=$(catkin_lint -W1 src 2>&1); lint_rc=$?
+echo "$lint_out" | tail -n 20
+lint_problems=$(echo "$lint_out" | grep -cE 'error:|warning:' || true)
+
+echo "== unit tests and rostests"
+catkin_make run_tests -j2 -DCATKIN_ENABLE_TESTING=ON 2>&1 | grep -vE '^(-- |\[ *[0-9]+%\]|Scanning|Consolidate|Built target)' | tail -n 400
+echo "== results"
+catkin_test_results --verbose build/test_results > build/test_summary.txt 2>&1; results_rc=$?
+grep -vE '^\s*$' build/test_summary.txt | tail -n 60
+
+# One closing line: count test cases from the JUnit files.
+python3 - "$lint_problems" <<'PY'
+import glob, sys, xml.etree.ElementTree as ET
+total = failed = skipped = 0
+for f in glob.glob('build/test_results/**/*.xml', recursive=True):
+    try:
+        root = ET.parse(f).getroot()
+    except ET.ParseError:
+        failed += 1
+        continue
+    suites = [root] if root.tag == 'testsuite' else root.iter('testsuite')
+    for s in suites:
+        for case in s.iter('testcase'):
+            total += 1
+            if case.find('failure') is not None or case.find('error') is not None:
+                failed += 1
+            elif case.find('skipped') is not None:
+                skipped += 1
+lint = int(sys.argv[1])
+if lint:
+    print('catkin_lint: %d problem(s)' % lint)
+print('%d passed, %d failed, %d skipped' % (total - failed - skipped, failed + (1 if lint else 0), skipped))
+PY
+if [ "$results_rc" != 0 ] || [ "$lint_problems" != 0 ] || ! ls build/test_results/*/*.xml >/dev/null 2>&1; then
+  echo "TESTS FAILED"
+  exit 1
+fi
+echo "ALL TESTS PASSED"

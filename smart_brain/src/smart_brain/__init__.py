@@ -1,0 +1,1 @@
+"""The Smart layer: strategies, actions and the state machine library that runs them."""
