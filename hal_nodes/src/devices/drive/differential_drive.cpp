@@ -1,0 +1,126 @@
+// DifferentialDrive: the motor interface every robot's motor boards implement. Takes
+// geometry_msgs/Twist on ~cmd_vel (/hal/drive/cmd_vel) and sends each wheel motor an
+// hcl_drivers/MotorCommand in its board's native unit (PWM duty, speed register, EPOS rpm:
+// ~wheels/<name>/units_per_mps from config). A command older than ~cmd_timeout stops the
+// wheels; deactivation commands zero at once and ignores cmd_vel until reactivated.
+// Commands are sent at ~rate even when they do not change, so the boards' own command
+// timeouts never stop a robot that is being driven, and do stop one whose HAL died.
+//
+// Parameters (besides ~rate):
+//   ~track_width       [m] required, > 0 (distance between the driven wheels)
+//   ~max_wheel_speed   [m/s] required, > 0; faster commands are scaled down keeping the curvature
+//   ~max_acceleration  [m/s^2] per wheel, 0 = none (default 0)
+//   ~cmd_timeout       [s] (default 0.3)
+//   ~wheels/<name>/    one block per motor:
+//       side           left | right
+//       topic          the board's command topic (/hcl/<board>/motor/<motor>/command), required
+//       motor          MotorCommand.name (default: the block name)
+//       units_per_mps  native units per m/s of wheel surface speed, non-zero (sign flips a mirrored motor)
+//       max_value      clamp of the native value, > 0 (required)
+#include <geometry_msgs/Twist.h>
+#include <hcl_drivers/MotorCommand.h>
+
+#include <cmath>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+#include "hal_nodes/devices/drive/wheel_speeds.h"
+
+namespace hal_nodes {
+
+class DifferentialDrive : public Effector {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    track_width_ = requireDouble(ctx.pnh, "track_width");
+    requirePositive(ctx.pnh, "track_width", track_width_);
+    max_wheel_speed_ = requireDouble(ctx.pnh, "max_wheel_speed");
+    requirePositive(ctx.pnh, "max_wheel_speed", max_wheel_speed_);
+    max_acceleration_ = optionalDouble(ctx.pnh, "max_acceleration", 0.0);
+    requireInRange(ctx.pnh, "max_acceleration", max_acceleration_, 0.0, 1e3);
+    cmd_timeout_ = optionalDouble(ctx.pnh, "cmd_timeout", 0.3);
+    requirePositive(ctx.pnh, "cmd_timeout", cmd_timeout_);
+    bool has_left = false, has_right = false;
+    for (const auto& name : requireBlockNames(ctx.pnh, "wheels")) {
+      ros::NodeHandle p(ctx.pnh, "wheels/" + name);
+      Motor m;
+      const std::string side = requireString(p, "side");
+      requireOneOf(p, "side", side, {"left", "right"});
+      m.left = side == "left";
+      (m.left ? has_left : has_right) = true;
+      m.motor = optionalString(p, "motor", name);
+      m.units_per_mps = requireDouble(p, "units_per_mps");
+      if (m.units_per_mps == 0.0 || !std::isfinite(m.units_per_mps))
+        throw ParameterError("parameter " + qualified(p, "units_per_mps") + " = 0: must be a non-zero number");
+      m.max_value = requireInt(p, "max_value");
+      requirePositive(p, "max_value", m.max_value);
+      m.pub = ctx.nh.advertise<hcl_drivers::MotorCommand>(requireString(p, "topic"), 1);
+      motors_.push_back(std::move(m));
+    }
+    if (!has_left || !has_right)
+      throw ParameterError("parameter " + qualified(ctx.pnh, "wheels") + " needs at least one wheel with side: left and one with side: right");
+    cmd_ = addInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel");
+    period_ = 1.0 / ctx.rate;
+  }
+
+  void refresh() override {
+    setAvailable();  // the drive needs no input to be safe: no command means stop
+    if (!active()) return;
+    const auto cmd = cmd_->fresh(cmd_timeout_);
+    WheelSpeeds target;  // no fresh command: stop (ramped, like any deceleration)
+    if (cmd) {
+      target = wheelSpeeds(cmd->linear.x, cmd->angular.z, track_width_, max_wheel_speed_);
+      commanded_ = true;
+    } else if (commanded_) {
+      commanded_ = false;
+      ++timeouts_;
+      ROS_WARN("drive: no cmd_vel for %.2f s, stopping", cmd_timeout_);
+    }
+    current_ = rampTowards(current_, target, max_acceleration_, period_);
+    send(current_);
+  }
+
+  void deactivate() override {
+    current_ = WheelSpeeds();
+    send(current_);  // at once, without a ramp: this is the emergency path
+  }
+
+  void halt() override { deactivate(); }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    stat.addf("left wheel [m/s]", "%.3f", current_.left);
+    stat.addf("right wheel [m/s]", "%.3f", current_.right);
+    stat.add("command timeouts", timeouts_);
+  }
+
+ private:
+  struct Motor {
+    bool left = true;
+    std::string motor;
+    double units_per_mps = 1.0;
+    int max_value = 0;
+    ros::Publisher pub;
+  };
+
+  void send(const WheelSpeeds& s) {
+    const ros::Time now = ros::Time::now();
+    for (auto& m : motors_) {
+      hcl_drivers::MotorCommand c;
+      c.header.stamp = now;
+      c.name = m.motor;
+      c.value = nativeValue(m.left ? s.left : s.right, m.units_per_mps, m.max_value);
+      m.pub.publish(c);
+    }
+  }
+
+  std::vector<Motor> motors_;
+  std::shared_ptr<LatestValue<geometry_msgs::Twist>> cmd_;
+  WheelSpeeds current_;
+  double track_width_ = 0.0, max_wheel_speed_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
+  unsigned long timeouts_ = 0;
+  bool commanded_ = false;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(DifferentialDrive)

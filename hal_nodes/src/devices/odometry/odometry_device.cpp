@@ -1,0 +1,255 @@
+// Odometry: dead reckoning from one or more encoder pairs (driven wheels, undriven measuring
+// wheels), each with a reliability weight. Publishes nav_msgs/Odometry on ~topic (/odom) and
+// the odom -> base_link tf, plus each pair's own odometry on ~<pair> (/hal/odometry/<pair>) so
+// localization can weigh the pairs itself.
+//
+// Each refresh samples the newest counter of every encoder (pull model). A pair takes part
+// while both its counters are fresh; a stale pair drops out, and when it comes back its
+// counters are re-baselined if the other pairs covered the gap (else the motion during the
+// gap is still counted: nobody else saw it). With every pair stale the device publishes
+// nothing (it never extrapolates) and reports STALE on /diagnostics.
+//
+// Parameters (besides ~rate):
+//   ~topic           output topic (default /odom)
+//   ~odom_frame      (default odom)      ~base_frame (default base_link)
+//   ~publish_tf      broadcast odom -> base_frame (default true)
+//   ~max_input_age   [s] older counters make a pair stale (default 0.2)
+//   ~max_wheel_speed [m/s] a larger implied wheel speed is a bad sample: dropped, re-baselined (default 5)
+//   ~pairs/<name>/   one block per encoder pair:
+//       left, right                encoder topics (hcl_drivers/EncoderCounter), required
+//       left_ticks_per_meter, right_ticks_per_meter   required, non-zero (sign flips a mirrored encoder)
+//       track_width                [m] required, > 0
+//       reliability                fusion weight, (0, 1] (default 1)
+//       distance_noise [m/sqrt(m)], heading_noise [rad/sqrt(m)], rotation_noise [rad/sqrt(rad)] (default 0.01 each)
+#include <geometry_msgs/TransformStamped.h>
+#include <hcl_drivers/EncoderCounter.h>
+#include <nav_msgs/Odometry.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+#include "hal_nodes/devices/odometry/encoder_tracker.h"
+#include "hal_nodes/devices/odometry/wheel_pair.h"
+
+namespace hal_nodes {
+
+namespace {
+
+using Counter = hcl_drivers::EncoderCounter;
+
+void fillPose(const PoseIntegrator& p, nav_msgs::Odometry& m) {
+  m.pose.pose.position.x = p.pose().x;
+  m.pose.pose.position.y = p.pose().y;
+  m.pose.pose.orientation.z = std::sin(0.5 * p.pose().theta);
+  m.pose.pose.orientation.w = std::cos(0.5 * p.pose().theta);
+  // 6x6 row-major over (x, y, z, roll, pitch, yaw); z/roll/pitch are fixed by the plane.
+  const int idx[3] = {0, 1, 5};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m.pose.covariance[idx[i] * 6 + idx[j]] = p.covariance()(i, j);
+  for (int k : {2, 3, 4}) m.pose.covariance[k * 6 + k] = 1e6;  // unobserved by wheels
+}
+
+}  // namespace
+
+class OdometryDevice : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    odom_frame_ = optionalString(ctx.pnh, "odom_frame", "odom");
+    base_frame_ = optionalString(ctx.pnh, "base_frame", "base_link");
+    publish_tf_ = optionalBool(ctx.pnh, "publish_tf", true);
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.2);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    max_wheel_speed_ = optionalDouble(ctx.pnh, "max_wheel_speed", 5.0);
+    requirePositive(ctx.pnh, "max_wheel_speed", max_wheel_speed_);
+    for (const auto& name : requireBlockNames(ctx.pnh, "pairs")) {
+      ros::NodeHandle p(ctx.pnh, "pairs/" + name);
+      Pair pair;
+      pair.name = name;
+      pair.model.left_m_per_tick = 1.0 / nonZero(p, "left_ticks_per_meter");
+      pair.model.right_m_per_tick = 1.0 / nonZero(p, "right_ticks_per_meter");
+      pair.model.track_width = requireDouble(p, "track_width");
+      requirePositive(p, "track_width", pair.model.track_width);
+      pair.reliability = optionalDouble(p, "reliability", 1.0);
+      requireInRange(p, "reliability", pair.reliability, 1e-6, 1.0);
+      pair.model.distance_noise = optionalDouble(p, "distance_noise", 0.01);
+      pair.model.heading_noise = optionalDouble(p, "heading_noise", 0.01);
+      pair.model.rotation_noise = optionalDouble(p, "rotation_noise", 0.01);
+      requireInRange(p, "distance_noise", pair.model.distance_noise, 0.0, 1.0);
+      requireInRange(p, "heading_noise", pair.model.heading_noise, 0.0, 1.0);
+      requireInRange(p, "rotation_noise", pair.model.rotation_noise, 0.0, 1.0);
+      pair.left = addInput<Counter>(ctx.nh, requireString(p, "left"), name + " left");
+      pair.right = addInput<Counter>(ctx.nh, requireString(p, "right"), name + " right");
+      pair.pub = ctx.pnh.advertise<nav_msgs::Odometry>(name, 5);
+      pairs_.push_back(std::move(pair));
+    }
+    odom_pub_ = ctx.nh.advertise<nav_msgs::Odometry>(optionalString(ctx.pnh, "topic", "/odom"), 5);
+    if (publish_tf_) tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  }
+
+  void refresh() override {
+    IncrementFusion fusion;
+    ros::Time newest;
+    double speed_sum = 0.0, turn_sum = 0.0, weight_sum = 0.0;
+    for (auto& pair : pairs_) {
+      const auto l = pair.left->fresh(max_input_age_);
+      const auto r = pair.right->fresh(max_input_age_);
+      if (!l || !r) {
+        if (pair.active) {
+          pair.active = false;
+          pair.dropped_at_step = steps_;
+          ++pair.dropouts;
+          ROS_WARN("odometry: encoder pair %s stale, dropped out", pair.name.c_str());
+        }
+        continue;
+      }
+      if (!pair.active) {
+        // Back (or first use): if other pairs integrated meanwhile, that motion is counted.
+        if (pair.dropped_at_step < 0 || steps_ > pair.dropped_at_step) {
+          pair.left_tracker.rebaseline();
+          pair.right_tracker.rebaseline();
+        }
+        pair.active = true;
+      }
+      const ros::Time stamp = std::max(l->header.stamp, r->header.stamp);
+      if (stamp == pair.last_stamp && pair.left_tracker.hasBaseline() && pair.right_tracker.hasBaseline()) {
+        addPair(pair, OdometryIncrement(), fusion, newest, stamp);  // no new exchange: no motion seen yet
+        speed_sum += pair.reliability * pair.speed;
+        turn_sum += pair.reliability * pair.turn_rate;
+        weight_sum += pair.reliability;
+        continue;
+      }
+      EncoderTracker::Event el, er;
+      const int64_t dl = pair.left_tracker.update(l->raw, l->bits, l->board_resets, &el);
+      const int64_t dr = pair.right_tracker.update(r->raw, r->bits, r->board_resets, &er);
+      countEvent(pair, el);
+      countEvent(pair, er);
+      OdometryIncrement inc = pair.model.increment(dl, dr);
+      const double dt = pair.last_stamp.isZero() ? 0.0 : (stamp - pair.last_stamp).toSec();
+      const double wheel_move = std::max(std::abs(pair.model.left_m_per_tick * dl), std::abs(pair.model.right_m_per_tick * dr));
+      if (dt > 0.0 && wheel_move > max_wheel_speed_ * dt + 1e-3) {
+        // Implausible jump (garbled counter, undetected reboot): drop and re-baseline.
+        ++pair.rejected;
+        ROS_WARN_THROTTLE(1.0, "odometry: pair %s jumped %.3f m in %.3f s, sample dropped", pair.name.c_str(), wheel_move, dt);
+        inc = OdometryIncrement();
+      }
+      if (dt > 0.0) {
+        pair.speed = inc.ds / dt;
+        pair.turn_rate = inc.dtheta / dt;
+      }
+      pair.last_stamp = stamp;
+      addPair(pair, inc, fusion, newest, stamp);
+      speed_sum += pair.reliability * pair.speed;
+      turn_sum += pair.reliability * pair.turn_rate;
+      weight_sum += pair.reliability;
+    }
+
+    if (fusion.empty()) {
+      std::ostringstream why;
+      why << "all encoder pairs stale:";
+      for (const auto& p : pairs_)
+        why << " " << p.name << " (left age " << p.left->age() << " s, right age " << p.right->age() << " s)";
+      setUnavailable(why.str());
+      all_stale_ = true;
+      return;  // never extrapolate
+    }
+    setAvailable();
+    all_stale_ = false;
+    ++steps_;
+    fused_.add(fusion.result());
+    publish(odom_pub_, fused_, newest, speed_sum / weight_sum, turn_sum / weight_sum, true);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    if (all_stale_) stat.summary(diagnostic_msgs::DiagnosticStatus::STALE, stat.message);
+    stat.addf("distance travelled [m]", "%.3f", fused_.distance());
+    for (const auto& p : pairs_) {
+      stat.add("pair " + p.name + " active", p.active);
+      stat.add("pair " + p.name + " dropouts", p.dropouts);
+      stat.add("pair " + p.name + " board resets seen", p.resets);
+      stat.add("pair " + p.name + " rejected samples", p.rejected);
+    }
+  }
+
+ private:
+  struct Pair {
+    std::string name;
+    WheelPairModel model;
+    double reliability = 1.0;
+    std::shared_ptr<LatestValue<Counter>> left, right;
+    EncoderTracker left_tracker, right_tracker;
+    PoseIntegrator integrator;
+    ros::Publisher pub;
+    ros::Time last_stamp;
+    bool active = false;
+    long dropped_at_step = -1;  // fused step count when it dropped out; -1: never used yet
+    double speed = 0.0, turn_rate = 0.0;
+    unsigned long dropouts = 0, resets = 0, rejected = 0;
+  };
+
+  static double nonZero(const ros::NodeHandle& p, const std::string& name) {
+    const double v = hcl_drivers::requireDouble(p, name);
+    if (v == 0.0 || !std::isfinite(v))
+      throw ParameterError("parameter " + hcl_drivers::qualified(p, name) + " = 0: must be a non-zero number");
+    return v;
+  }
+
+  void countEvent(Pair& pair, EncoderTracker::Event e) {
+    if (e == EncoderTracker::Event::kBoardReset) {
+      ++pair.resets;
+      ROS_WARN("odometry: board of pair %s was reset, counter re-baselined", pair.name.c_str());
+    } else if (e == EncoderTracker::Event::kBadWidth) {
+      ++pair.rejected;
+    }
+  }
+
+  void addPair(Pair& pair, const OdometryIncrement& inc, IncrementFusion& fusion, ros::Time& newest, const ros::Time& stamp) {
+    fusion.add(inc, pair.reliability);
+    if (stamp > newest) newest = stamp;
+    pair.integrator.add(inc);
+    publish(pair.pub, pair.integrator, stamp, pair.speed, pair.turn_rate, false);
+  }
+
+  void publish(ros::Publisher& pub, const PoseIntegrator& integ, const ros::Time& stamp, double v, double w, bool with_tf) {
+    nav_msgs::Odometry m;
+    m.header.stamp = stamp;
+    m.header.frame_id = odom_frame_;
+    m.child_frame_id = base_frame_;
+    fillPose(integ, m);
+    m.twist.twist.linear.x = v;
+    m.twist.twist.angular.z = w;
+    m.twist.covariance[0] = 1e-4 + 1e-2 * v * v;
+    m.twist.covariance[7] = 1e-6;  // no lateral motion on a differential drive
+    m.twist.covariance[35] = 1e-4 + 1e-2 * w * w;
+    for (int k : {14, 21, 28}) m.twist.covariance[k] = 1e6;
+    pub.publish(m);
+    if (!with_tf || !tf_ || stamp == last_tf_stamp_) return;  // tf2 rejects repeated stamps
+    last_tf_stamp_ = stamp;
+    geometry_msgs::TransformStamped t;
+    t.header = m.header;
+    t.child_frame_id = base_frame_;
+    t.transform.translation.x = m.pose.pose.position.x;
+    t.transform.translation.y = m.pose.pose.position.y;
+    t.transform.rotation = m.pose.pose.orientation;
+    tf_->sendTransform(t);
+  }
+
+  std::vector<Pair> pairs_;
+  PoseIntegrator fused_;
+  ros::Publisher odom_pub_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
+  ros::Time last_tf_stamp_;
+  std::string odom_frame_, base_frame_;
+  bool publish_tf_ = true;
+  bool all_stale_ = false;
+  double max_input_age_ = 0.2;
+  double max_wheel_speed_ = 5.0;
+  long steps_ = 0;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(OdometryDevice)
