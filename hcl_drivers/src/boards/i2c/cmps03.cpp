@@ -1,0 +1,81 @@
+// CMPS03: magnetic compass on I2C (cmps03_registers.h).
+//
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
+//   ~address   0x60 (the CMPS03's only address; a parameter so a bus scan result can be used)
+// Topics: ~bearing (hcl_drivers/Bearing, latched: 0..359.9 degrees clockwise from north),
+//         ~state (hcl_drivers/CMPS03State, latched).
+// Each service() reads 0x00..0x03 (revision, byte bearing, word bearing) in one combined
+// transaction; a word beyond 3599 or disagreeing with the byte bearing is counted and dropped.
+#include <hcl_drivers/Bearing.h>
+#include <hcl_drivers/CMPS03State.h>
+
+#include <mutex>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/cmps03_registers.h"
+#include "hcl_drivers/boards/i2c_device.h"
+
+namespace hcl_drivers {
+
+class CMPS03 : public Board {
+ public:
+  void init(BoardContext& ctx) override {
+    dev_ = openI2cDevice(ctx.pnh, 0x08, 0x77);
+    bearing_pub_ = ctx.pnh.advertise<Bearing>("bearing", 1, true);
+    state_pub_ = ctx.pnh.advertise<CMPS03State>("state", 1, true);
+  }
+
+  bool service() override {
+    auto addr_lock = dev_.bus->lockAddress(dev_.address);
+    std::string err;
+    std::vector<uint8_t> raw;
+    if (dev_.bus->readRegisters(dev_.address, cmps03::kRegRevision, cmps03::kBlockSize, raw, err) !=
+        transport::I2cStatus::kOk) {
+      fail(err);
+      return false;
+    }
+    const auto r = cmps03::decodeBlock(raw);
+    if (!r) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      ++garbled_;
+      fail("garbled bearing (word > 3599 or byte/word disagree)");
+      return false;
+    }
+    const ros::Time now = ros::Time::now();
+    Bearing::Ptr b(new Bearing);
+    b->header.stamp = now;
+    b->degrees = r->degrees();
+    bearing_pub_.publish(b);
+    CMPS03State::Ptr s(new CMPS03State);
+    s->header.stamp = now;
+    s->address = dev_.address;
+    s->revision = r->revision;
+    s->bearing_byte = r->bearing_byte;
+    s->bearing_word = r->bearing_word;
+    state_pub_.publish(s);
+    return true;
+  }
+
+  void halt() override {}  // a sensor: nothing to make safe
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    const auto c = dev_.bus->counters();
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.addf("address", "0x%02x", dev_.address);
+    stat.add("bus", dev_.bus->url());
+    stat.add("bus NACKs", c.nacks);
+    stat.add("bus timeouts", c.timeouts);
+    stat.add("bus errors", c.bus_errors);
+    stat.add("garbled reads", garbled_);
+  }
+
+ private:
+  I2cDevice dev_;
+  ros::Publisher bearing_pub_, state_pub_;
+  std::mutex mutex_;
+  unsigned long garbled_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(CMPS03)

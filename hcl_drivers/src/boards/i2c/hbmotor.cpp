@@ -1,0 +1,183 @@
+// HBmotor: Logion's I2C H-bridge board, one motor and its encoder (hbmotor_registers.h).
+//
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
+//   ~address            0x08..0x77
+//   ~motor              motor name (default "motor"); ~encoder encoder name (default = motor)
+//   ~command_timeout    [s] a MotorCommand older than this is dropped and 0 written (default 0.3)
+//   ~firmware_watchdog  [s] written to WATCHDOG: the board itself stops the motor when the
+//                       driver stops writing (default 0.25, 0 = off, max 2.55)
+// Topics: ~motor/<motor>/command (hcl_drivers/MotorCommand in, value = PWM duty -127..127),
+//         ~encoder/<encoder> (hcl_drivers/EncoderCounter, latched, bits = 32),
+//         ~state (hcl_drivers/HBMotorState, latched).
+// Every service() writes COMMAND (feeding the firmware watchdog) then reads 0x00..0x08 in
+// one combined transaction.
+#include <hcl_drivers/EncoderCounter.h>
+#include <hcl_drivers/HBMotorState.h>
+#include <hcl_drivers/MotorCommand.h>
+
+#include <mutex>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/hbmotor_registers.h"
+#include "hcl_drivers/boards/i2c_device.h"
+
+namespace hcl_drivers {
+
+class HBMotor : public Board {
+ public:
+  void init(BoardContext& ctx) override {
+    dev_ = openI2cDevice(ctx.pnh, 0x08, 0x77);
+    motor_ = optionalString(ctx.pnh, "motor", "motor");
+    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
+    command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.3);
+    requirePositive(ctx.pnh, "command_timeout", command_timeout_);
+    const double wd = optionalDouble(ctx.pnh, "firmware_watchdog", 0.25);
+    requireInRange(ctx.pnh, "firmware_watchdog", wd, 0.0, 2.55);
+    watchdog_ = hbmotor::encodeWatchdog(wd);
+    state_pub_ = ctx.pnh.advertise<HBMotorState>("state", 1, true);
+    encoder_pub_ = ctx.pnh.advertise<EncoderCounter>("encoder/" + encoder_, 1, true);
+    command_sub_ = ctx.pnh.subscribe("motor/" + motor_ + "/command", 1, &HBMotor::onCommand, this);
+  }
+
+  bool service() override {
+    auto addr_lock = dev_.bus->lockAddress(dev_.address);
+    std::string err;
+    if (!configured_) {
+      // Watchdog first, then clear the power-on flag: a reset seen later means the board rebooted.
+      if (dev_.bus->writeRegisters(dev_.address, hbmotor::kRegWatchdog, {watchdog_}, err) != transport::I2cStatus::kOk ||
+          dev_.bus->writeRegisters(dev_.address, hbmotor::kRegControl, {hbmotor::kControlClearPowerOn}, err) !=
+              transport::I2cStatus::kOk) {
+        fail(err);
+        return false;
+      }
+      configured_ = true;
+    }
+    const int8_t duty = static_cast<int8_t>(hbmotor::encodeCommand(commandToApply()));
+    if (dev_.bus->writeRegisters(dev_.address, hbmotor::kRegCommand, {static_cast<uint8_t>(duty)}, err) !=
+        transport::I2cStatus::kOk) {
+      fail(err);
+      return false;
+    }
+    std::vector<uint8_t> raw;
+    if (dev_.bus->readRegisters(dev_.address, hbmotor::kRegVersion, hbmotor::kBlockSize, raw, err) !=
+        transport::I2cStatus::kOk) {
+      fail(err);
+      return false;
+    }
+    const auto block = hbmotor::decodeBlock(raw);
+    if (!block) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      ++garbled_;
+      fail("garbled register block (reserved status bits set)");
+      return false;
+    }
+    if (block->status & hbmotor::kStatusPowerOn) {
+      // The board rebooted: its counter restarted and its watchdog is off. Reconfigure next time.
+      std::lock_guard<std::mutex> lk(mutex_);
+      ++resets_;
+      configured_ = false;
+      ROS_WARN("HBmotor 0x%02x reset (power-on flag set): reconfiguring", dev_.address);
+    }
+    publish(*block, duty);
+    return true;
+  }
+
+  void halt() override {
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      command_ = 0;
+      command_stamp_ = ros::Time();
+    }
+    if (!dev_.bus) return;
+    auto addr_lock = dev_.bus->lockAddress(dev_.address);
+    std::string err;
+    dev_.bus->writeRegisters(dev_.address, hbmotor::kRegCommand, {0}, err);  // best effort: motor off
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    const auto c = dev_.bus->counters();
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.addf("address", "0x%02x", dev_.address);
+    stat.add("bus", dev_.bus->url());
+    stat.add("bus NACKs", c.nacks);
+    stat.add("bus timeouts", c.timeouts);
+    stat.add("bus errors", c.bus_errors);
+    stat.add("bus retries", c.retries);
+    stat.add("garbled reads", garbled_);
+    stat.add("board resets seen", resets_);
+    stat.add("commands dropped as stale", stale_commands_);
+    stat.add("commands for another motor", wrong_name_);
+    stat.add("commands clamped", clamped_);
+    stat.add("duty commanded", command_);
+  }
+
+ private:
+  void onCommand(const MotorCommand::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (!msg->name.empty() && msg->name != motor_) {
+      ++wrong_name_;
+      return;
+    }
+    if (msg->value > hbmotor::kCommandMax || msg->value < -hbmotor::kCommandMax) ++clamped_;
+    command_ = msg->value;
+    command_stamp_ = ros::Time::now();
+  }
+
+  int32_t commandToApply() {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (command_stamp_.isZero()) return 0;
+    if ((ros::Time::now() - command_stamp_).toSec() > command_timeout_) {
+      ++stale_commands_;
+      command_stamp_ = ros::Time();
+      command_ = 0;
+      ROS_WARN("HBmotor 0x%02x: no command for %.2f s, motor stopped", dev_.address, command_timeout_);
+      return 0;
+    }
+    return command_;
+  }
+
+  void publish(const hbmotor::Block& b, int8_t requested) {
+    const ros::Time now = ros::Time::now();
+    uint32_t resets;
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      resets = resets_;
+    }
+    EncoderCounter::Ptr e(new EncoderCounter);
+    e->header.stamp = now;
+    e->name = encoder_;
+    e->raw = b.encoder;
+    e->bits = 32;
+    e->board_resets = resets;
+    encoder_pub_.publish(e);
+    HBMotorState::Ptr s(new HBMotorState);
+    s->header.stamp = now;
+    s->address = dev_.address;
+    s->firmware_version = b.version;
+    s->status = b.status;
+    s->command = b.command;
+    s->command_requested = requested;
+    s->encoder = b.encoder;
+    s->watchdog = b.watchdog;
+    s->board_resets = resets;
+    state_pub_.publish(s);
+  }
+
+  I2cDevice dev_;
+  std::string motor_, encoder_;
+  double command_timeout_ = 0.3;
+  uint8_t watchdog_ = 25;
+  bool configured_ = false;
+  ros::Publisher state_pub_, encoder_pub_;
+  ros::Subscriber command_sub_;
+
+  std::mutex mutex_;  // command callback vs polling thread vs diagnostics
+  int32_t command_ = 0;
+  ros::Time command_stamp_;
+  unsigned long garbled_ = 0, stale_commands_ = 0, wrong_name_ = 0, clamped_ = 0;
+  uint32_t resets_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(HBMotor)

@@ -1,0 +1,37 @@
+#include "hcl_drivers/boards/i2c_device.h"
+
+#include <cstdio>
+#include <system_error>
+
+#include "hcl_drivers/parameters.h"
+
+namespace hcl_drivers {
+
+I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address_max) {
+  I2cDevice d;
+  const std::string url = requireString(pnh, "bus");
+  const int address = requireInt(pnh, "address");
+  if (address < address_min || address > address_max) {
+    char range[64];
+    std::snprintf(range, sizeof(range), "0x%02x..0x%02x", address_min, address_max);
+    throw ParameterError("parameter " + qualified(pnh, "address") + " = " + std::to_string(address) +
+                         ": must be a 7-bit address in " + range);
+  }
+  d.address = static_cast<uint8_t>(address);
+  const double timeout = optionalDouble(pnh, "bus_timeout", 0.02);
+  requireInRange(pnh, "bus_timeout", timeout, 0.001, 1.0);
+  const int retries = optionalInt(pnh, "bus_retries", 2);
+  requireInRange(pnh, "bus_retries", retries, 0, 10);
+  try {
+    d.bus = transport::openI2cBus(url);
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError("parameter " + qualified(pnh, "bus") + ": " + e.what());
+  } catch (const std::system_error& e) {
+    throw ParameterError("parameter " + qualified(pnh, "bus") + " = '" + url + "': " + e.what());
+  }
+  d.bus->setTimeout(timeout);
+  d.bus->setRetries(retries);
+  return d;
+}
+
+}  // namespace hcl_drivers

@@ -1,0 +1,177 @@
+// MCP23016: 16-bit I/O expander (mcp23016_registers.h). On Logion: buttons in, LEDs out.
+//
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
+//   ~address         0x20..0x27
+//   ~direction       IODIR, 16 bits, 1 = input (default 0xFFFF, all inputs)
+//   ~input_polarity  IPOL, 16 bits, 1 = invert that input (buttons to ground read 1 when
+//                    pressed), default 0
+//   ~input_names     list of names for bits 0.. (optional, copied into DigitalInputs.names)
+//   ~outputs_initial OLAT at start and after halt (default 0: LEDs off)
+// Topics: ~inputs (hcl_drivers/DigitalInputs, latched: bits = GP & IODIR),
+//         ~outputs (std_msgs/UInt16 in: OLAT bits; only pins configured as outputs drive),
+//         ~state (hcl_drivers/MCP23016State, latched).
+// Each service() writes OLAT, then reads GP and IODIR in one combined transaction; IODIR
+// back at its power-on value (0xFFFF while we configured outputs) means the chip reset,
+// and it is configured again.
+#include <hcl_drivers/DigitalInputs.h>
+#include <hcl_drivers/MCP23016State.h>
+#include <std_msgs/UInt16.h>
+
+#include <mutex>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/i2c_device.h"
+#include "hcl_drivers/boards/mcp23016_registers.h"
+
+namespace hcl_drivers {
+
+class MCP23016 : public Board {
+ public:
+  void init(BoardContext& ctx) override {
+    dev_ = openI2cDevice(ctx.pnh, mcp23016::kAddressMin, mcp23016::kAddressMax);
+    const int dir = optionalInt(ctx.pnh, "direction", 0xFFFF);
+    requireInRange(ctx.pnh, "direction", dir, 0, 0xFFFF);
+    const int pol = optionalInt(ctx.pnh, "input_polarity", 0);
+    requireInRange(ctx.pnh, "input_polarity", pol, 0, 0xFFFF);
+    const int out = optionalInt(ctx.pnh, "outputs_initial", 0);
+    requireInRange(ctx.pnh, "outputs_initial", out, 0, 0xFFFF);
+    direction_ = static_cast<uint16_t>(dir);
+    polarity_ = static_cast<uint16_t>(pol);
+    initial_ = olat_ = static_cast<uint16_t>(out);
+    if (ctx.pnh.hasParam("input_names") && !ctx.pnh.getParam("input_names", names_))
+      throw ParameterError("parameter " + qualified(ctx.pnh, "input_names") + ": must be a list of strings");
+    if (names_.size() > 16)
+      throw ParameterError("parameter " + qualified(ctx.pnh, "input_names") + ": at most 16 names (one per pin)");
+    inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
+    state_pub_ = ctx.pnh.advertise<MCP23016State>("state", 1, true);
+    outputs_sub_ = ctx.pnh.subscribe("outputs", 1, &MCP23016::onOutputs, this);
+  }
+
+  bool service() override {
+    auto addr_lock = dev_.bus->lockAddress(dev_.address);
+    std::string err;
+    using transport::I2cStatus;
+    if (!configured_) {
+      if (dev_.bus->writeRegisters(dev_.address, mcp23016::kRegOlat0, mcp23016::encodePair(olat()), err) != I2cStatus::kOk ||
+          dev_.bus->writeRegisters(dev_.address, mcp23016::kRegIpol0, mcp23016::encodePair(polarity_), err) !=
+              I2cStatus::kOk ||
+          dev_.bus->writeRegisters(dev_.address, mcp23016::kRegIodir0, mcp23016::encodePair(direction_), err) !=
+              I2cStatus::kOk) {
+        fail(err);
+        return false;
+      }
+      configured_ = true;
+    }
+    const uint16_t olat_now = olat();
+    if (dev_.bus->writeRegisters(dev_.address, mcp23016::kRegOlat0, mcp23016::encodePair(olat_now), err) != I2cStatus::kOk) {
+      fail(err);
+      return false;
+    }
+    std::vector<transport::I2cMessage> msgs(4);
+    for (auto& m : msgs) m.address = dev_.address;
+    msgs[0].data = {mcp23016::kRegGp0};
+    msgs[1].read = true;
+    msgs[1].data.assign(2, 0);
+    msgs[2].data = {mcp23016::kRegIodir0};
+    msgs[3].read = true;
+    msgs[3].data.assign(2, 0);
+    if (dev_.bus->transfer(msgs, err) != I2cStatus::kOk) {
+      fail(err);
+      return false;
+    }
+    const uint16_t gp = mcp23016::decodePair(msgs[1].data);
+    const uint16_t iodir = mcp23016::decodePair(msgs[3].data);
+    if (iodir != direction_) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      configured_ = false;
+      if (iodir == mcp23016::kIodirPowerOn) {
+        ++resets_;
+        ROS_WARN("MCP23016 0x%02x reset (IODIR at power-on value): reconfiguring", dev_.address);
+      } else {
+        ++mismatches_;
+      }
+      fail("IODIR reads 0x" + hex(iodir) + ", configured 0x" + hex(direction_) + ": reconfiguring");
+      return false;
+    }
+    publish(gp, iodir, olat_now);
+    return true;
+  }
+
+  void halt() override {
+    // LEDs are harmless but a halted board should look halted: back to the initial outputs.
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      olat_ = initial_;
+    }
+    if (!dev_.bus) return;
+    auto addr_lock = dev_.bus->lockAddress(dev_.address);
+    std::string err;
+    dev_.bus->writeRegisters(dev_.address, mcp23016::kRegOlat0, mcp23016::encodePair(initial_), err);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    const auto c = dev_.bus->counters();
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.addf("address", "0x%02x", dev_.address);
+    stat.add("bus", dev_.bus->url());
+    stat.add("bus NACKs", c.nacks);
+    stat.add("bus timeouts", c.timeouts);
+    stat.add("bus errors", c.bus_errors);
+    stat.add("board resets seen", resets_);
+    stat.add("IODIR mismatches", mismatches_);
+    stat.addf("outputs", "0x%04x", olat_);
+  }
+
+ private:
+  static std::string hex(uint16_t v) {
+    char b[8];
+    std::snprintf(b, sizeof(b), "%04x", v);
+    return b;
+  }
+
+  void onOutputs(const std_msgs::UInt16::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    olat_ = msg->data;
+  }
+
+  uint16_t olat() {
+    std::lock_guard<std::mutex> lk(mutex_);
+    return olat_;
+  }
+
+  void publish(uint16_t gp, uint16_t iodir, uint16_t olat) {
+    const ros::Time now = ros::Time::now();
+    DigitalInputs::Ptr in(new DigitalInputs);
+    in->header.stamp = now;
+    in->bits = mcp23016::inputBits(gp, iodir);
+    in->names = names_;
+    inputs_pub_.publish(in);
+    MCP23016State::Ptr s(new MCP23016State);
+    s->header.stamp = now;
+    s->address = dev_.address;
+    s->gp = gp;
+    s->iodir = iodir;
+    s->olat = olat;
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      s->board_resets = resets_;
+    }
+    state_pub_.publish(s);
+  }
+
+  I2cDevice dev_;
+  uint16_t direction_ = 0xFFFF, polarity_ = 0, initial_ = 0;
+  std::vector<std::string> names_;
+  bool configured_ = false;
+  ros::Publisher inputs_pub_, state_pub_;
+  ros::Subscriber outputs_sub_;
+
+  std::mutex mutex_;
+  uint16_t olat_ = 0;
+  uint32_t resets_ = 0;
+  unsigned long mismatches_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(MCP23016)

@@ -1,0 +1,131 @@
+// SRF02: ultrasonic ranger on I2C (srf02_registers.h), one ranger per board.
+//
+// The ~65 ms conversion is honoured without blocking the loop (other boards on the same
+// bus share this thread): service() is two-phase. It starts a ranging (write 0x51 to the
+// command register) and returns; a later service() at least ~conversion_time after the
+// start reads the result (4 bytes from 0x00; revision 0xFF = still converting, read again
+// next time) and starts the next ranging. So ranges arrive at min(rate, 1/conversion_time).
+//
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
+//   ~address          0x70..0x7F
+//   ~frame_id         frame of the Range messages (default "<board name>_link"; the URDF frame)
+//   ~conversion_time  [s] wait after a ranging command, >= 0.065 (default 0.065)
+//   ~field_of_view    [rad] reported beam width (default 0.96, ~55 deg)
+// Topics: ~range (sensor_msgs/Range, latched: metres; +inf when the SRF02 reports no echo),
+//         ~state (hcl_drivers/SRF02State, latched).
+#include <hcl_drivers/SRF02State.h>
+#include <sensor_msgs/Range.h>
+
+#include <limits>
+#include <mutex>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/i2c_device.h"
+#include "hcl_drivers/boards/srf02_registers.h"
+
+namespace hcl_drivers {
+
+class SRF02 : public Board {
+ public:
+  void init(BoardContext& ctx) override {
+    dev_ = openI2cDevice(ctx.pnh, srf02::kAddressMin, srf02::kAddressMax);
+    std::string base = ctx.name.substr(ctx.name.rfind('/') + 1);
+    frame_id_ = optionalString(ctx.pnh, "frame_id", base + "_link");
+    conversion_time_ = optionalDouble(ctx.pnh, "conversion_time", srf02::kConversionTime);
+    requireInRange(ctx.pnh, "conversion_time", conversion_time_, srf02::kConversionTime, 1.0);
+    fov_ = optionalDouble(ctx.pnh, "field_of_view", srf02::kFieldOfView);
+    requireInRange(ctx.pnh, "field_of_view", fov_, 0.01, 3.14);
+    range_pub_ = ctx.pnh.advertise<sensor_msgs::Range>("range", 1, true);
+    state_pub_ = ctx.pnh.advertise<SRF02State>("state", 1, true);
+  }
+
+  bool service() override {
+    auto addr_lock = dev_.bus->lockAddress(dev_.address);
+    std::string err;
+    const ros::Time now = ros::Time::now();
+    if (!started_.isZero()) {
+      if ((now - started_).toSec() < conversion_time_) return true;  // converting: nothing to ask yet
+      std::vector<uint8_t> raw;
+      if (dev_.bus->readRegisters(dev_.address, srf02::kRegRevision, srf02::kResultSize, raw, err) !=
+          transport::I2cStatus::kOk) {
+        started_ = ros::Time();  // start over: the ranging may have been lost with the board
+        fail(err);
+        return false;
+      }
+      const auto r = srf02::decodeResult(raw);
+      if (r.kind == srf02::ResultKind::kBusy) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        ++busy_reads_;
+        return true;  // it answered; the result comes on a later call
+      }
+      started_ = ros::Time();
+      if (r.kind == srf02::ResultKind::kInvalid) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        ++garbled_;
+        fail("garbled result (range beyond 16 m)");
+        return false;
+      }
+      publish(r);
+    }
+    if (dev_.bus->writeRegisters(dev_.address, srf02::kRegCommand, {srf02::kCmdRangeCm}, err) !=
+        transport::I2cStatus::kOk) {
+      fail(err);
+      return false;
+    }
+    started_ = ros::Time::now();
+    return true;
+  }
+
+  void halt() override { started_ = ros::Time(); }  // nothing moves; restart ranging cleanly
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    const auto c = dev_.bus->counters();
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.addf("address", "0x%02x", dev_.address);
+    stat.add("bus", dev_.bus->url());
+    stat.add("bus NACKs", c.nacks);
+    stat.add("bus timeouts", c.timeouts);
+    stat.add("bus errors", c.bus_errors);
+    stat.add("busy reads", busy_reads_);
+    stat.add("garbled reads", garbled_);
+    stat.add("ranges", ranges_);
+  }
+
+ private:
+  void publish(const srf02::Result& r) {
+    const ros::Time now = ros::Time::now();
+    sensor_msgs::Range::Ptr m(new sensor_msgs::Range);
+    m->header.stamp = now;
+    m->header.frame_id = frame_id_;
+    m->radiation_type = sensor_msgs::Range::ULTRASOUND;
+    m->field_of_view = static_cast<float>(fov_);
+    m->min_range = static_cast<float>(srf02::kMinRangeM);
+    m->max_range = static_cast<float>(srf02::kMaxRangeM);
+    m->range = r.range_cm == 0 ? std::numeric_limits<float>::infinity()  // REP-117: no echo
+                               : static_cast<float>(srf02::centimetresToMetres(r.range_cm));
+    range_pub_.publish(m);
+    SRF02State::Ptr s(new SRF02State);
+    s->header.stamp = now;
+    s->address = dev_.address;
+    s->revision = r.revision;
+    s->range_cm = r.range_cm;
+    std::lock_guard<std::mutex> lk(mutex_);
+    ++ranges_;
+    s->busy_reads = busy_reads_;
+    state_pub_.publish(s);
+  }
+
+  I2cDevice dev_;
+  std::string frame_id_;
+  double conversion_time_ = srf02::kConversionTime;
+  double fov_ = srf02::kFieldOfView;
+  ros::Time started_;  // when the pending ranging was commanded; zero = none pending
+  ros::Publisher range_pub_, state_pub_;
+  std::mutex mutex_;
+  uint32_t busy_reads_ = 0;
+  unsigned long garbled_ = 0, ranges_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(SRF02)
