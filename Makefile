@@ -3,6 +3,7 @@
 #   make run [ROBOT=skeleton]   install, build, start a simulated robot headless
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
+#   make report [BAG=x.bag]     match report PNG of a recorded bag
 #   make deps | build | lint | clean
 
 SHELL := /bin/bash
@@ -29,8 +30,10 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   libmrpt-dev libmrpt-ros1bridge-dev libeigen3-dev \
   libgtest-dev libgmock-dev googletest python3-nose python3-numpy \
   can-utils iproute2 socat
+# product (issue 10): rviz and its headless test (Xvfb + screenshot), the match report's plots
+DEPS += rviz xvfb xauth imagemagick python3-matplotlib
 
-.PHONY: deps build run test bench lint clean
+.PHONY: deps build run test bench lint clean report
 
 deps:
 	@if dpkg -s $(DEPS) >/dev/null 2>&1; then echo "deps: all Debian packages present"; else \
@@ -51,6 +54,11 @@ test: build
 
 bench: build
 	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_bench.sh
+
+# Match report of a recorded bag (record:=true): PNG + text next to the bag.
+#   make report [BAG=path.bag]   (default: the newest bag in ~/.ros)
+report: deps
+	python3 $(ROOT)/scripts/match_report.py $(BAG)
 
 lint: deps
 	catkin_lint -W1 $(ROOT)/src
