@@ -1,0 +1,150 @@
+#!/usr/bin/env python3
+"""The robot descriptions: every URDF is one tree under base_link with the frames the devices
+and rviz rely on, and config/<robot>.yaml names only frames that exist in its URDF (a ranger's
+frame_id is a link; a simulated ranger's mount is where the URDF puts it).
+Also: table_markers draws the config's table and refuses a bad one with one clear line."""
+import math
+import os
+import subprocess
+import sys
+import unittest
+import xml.etree.ElementTree as ET
+
+import rospkg
+import rospy
+import rostest
+import yaml
+from visualization_msgs.msg import MarkerArray
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
+URDF_DIR = os.path.join(rospkg.RosPack().get_path('robot_description'), 'urdf')
+COMMON = ['base_link', 'base_footprint', 'left_wheel_link', 'right_wheel_link', 'caster_link',
+          'compass_link', 'beacon_receiver_link', 'camera_link', 'camera_optical_frame']
+EXPECTED = {
+    'eurobot2009': COMMON + ['hand_link', 'hand_lift_link', 'hand_left_finger_link', 'hand_right_finger_link'],
+    'logion': COMMON + ['harvester_link'],
+    'skeleton': ['base_link', 'lamp_link'],
+}
+GLOBAL_FRAMES = {'map', 'odom'}
+FRAME_KEYS = ('frame_id', 'frame', 'sensor_frame', 'camera_frame', 'receiver_frame', 'base_frame')
+
+
+def parse(robot):
+    """(links, {child: (parent, xyz, rpy)})."""
+    root = ET.parse(os.path.join(URDF_DIR, robot + '.urdf')).getroot()
+    links = [l.get('name') for l in root.findall('link')]
+    joints = {}
+    for j in root.findall('joint'):
+        o = j.find('origin')
+        xyz = [float(v) for v in (o.get('xyz', '0 0 0') if o is not None else '0 0 0').split()]
+        rpy = [float(v) for v in (o.get('rpy', '0 0 0') if o is not None else '0 0 0').split()]
+        joints[j.find('child').get('link')] = (j.find('parent').get('link'), xyz, rpy)
+    return links, joints
+
+
+def frames_named_in(node, path=''):
+    """(path, frame) for every frame-naming key anywhere in a config tree."""
+    out = []
+    if isinstance(node, dict):
+        for k, v in node.items():
+            p = path + '/' + str(k)
+            if k in FRAME_KEYS and isinstance(v, str):
+                out.append((p, v))
+            else:
+                out.extend(frames_named_in(v, p))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            out.extend(frames_named_in(v, '%s[%d]' % (path, i)))
+    return out
+
+
+def load_config(robot, sim):
+    with open(os.path.join(ROOT, 'config', robot + '.yaml')) as f:
+        cfg = yaml.safe_load(f) or {}
+    if sim:
+        with open(os.path.join(ROOT, 'config', robot + '.sim.yaml')) as f:
+            return cfg, (yaml.safe_load(f) or {})
+    return cfg, {}
+
+
+class DescriptionTest(unittest.TestCase):
+    def test_urdf_is_one_tree_with_expected_frames(self):
+        for robot, expected in EXPECTED.items():
+            links, joints = parse(robot)
+            self.assertEqual(len(links), len(set(links)), '%s: duplicate link names' % robot)
+            roots = [l for l in links if l not in joints]
+            self.assertEqual(roots, ['base_link'], '%s: the tree must have base_link as its only root' % robot)
+            for child, (parent, _, _) in joints.items():
+                self.assertIn(parent, links, '%s: joint to %s from unknown %s' % (robot, child, parent))
+            for frame in expected:
+                self.assertIn(frame, links, '%s: frame %s missing' % (robot, frame))
+            if robot != 'skeleton':
+                rangers = [l for l in links if l.startswith('ranger_')]
+                self.assertGreaterEqual(len(rangers), 4, '%s: rangers %s' % (robot, rangers))
+
+    def test_config_frames_exist_in_urdf(self):
+        for robot in ('eurobot2009', 'logion', 'skeleton'):
+            links, _ = parse(robot)
+            cfg, sim = load_config(robot, True)
+            for path, frame in frames_named_in(cfg) + frames_named_in(sim):
+                self.assertIn(frame, set(links) | GLOBAL_FRAMES,
+                              'config/%s: %s = %s is not a link of urdf/%s.urdf' % (robot, path, frame, robot))
+
+    def test_simulated_ranger_mounts_match_urdf(self):
+        # sim/world/robot/rangers/<name>/mount: [x, y, theta] in base_link; the URDF link is
+        # <name> or ranger_<name>. A ranger the simulator has must be in the URDF, same place.
+        checked = 0
+        for robot in ('eurobot2009', 'logion'):
+            links, joints = parse(robot)
+            _, sim = load_config(robot, True)
+            rangers = (((sim.get('sim') or {}).get('world') or {}).get('robot') or {}).get('rangers') or {}
+            for name, r in rangers.items():
+                link = name if name in links else 'ranger_' + name
+                self.assertIn(link, links, 'config/%s.sim.yaml ranger %s has no URDF link %s' % (robot, name, link))
+                mount = r.get('mount') if isinstance(r, dict) else None
+                if not isinstance(mount, list) or len(mount) < 2:
+                    continue
+                parent, xyz, rpy = joints[link]
+                self.assertEqual(parent, 'base_link')
+                self.assertAlmostEqual(xyz[0], mount[0], delta=0.01, msg='%s %s x' % (robot, link))
+                self.assertAlmostEqual(xyz[1], mount[1], delta=0.01, msg='%s %s y' % (robot, link))
+                if len(mount) >= 3:
+                    d = math.atan2(math.sin(rpy[2] - mount[2]), math.cos(rpy[2] - mount[2]))
+                    self.assertLess(abs(d), 0.02, '%s %s yaw %.3f vs mount %.3f' % (robot, link, rpy[2], mount[2]))
+                checked += 1
+        sys.stdout.write('simulated ranger mounts checked against the URDF: %d\n' % checked)
+
+    def test_table_markers_draw_the_config_table(self):
+        rospy.init_node('test_product_description', anonymous=True)
+        msg = rospy.wait_for_message('/table_markers', MarkerArray, timeout=20.0)
+        table = [m for m in msg.markers if m.ns == 'table']
+        self.assertEqual(len(table), 1)
+        length, width = rospy.get_param('/table/length'), rospy.get_param('/table/width')
+        self.assertAlmostEqual(table[0].scale.x, length)
+        self.assertAlmostEqual(table[0].scale.y, width)
+        self.assertEqual(table[0].header.frame_id, 'map')
+        self.assertAlmostEqual(table[0].pose.position.x, length / 2)
+        # Its top is just below z = 0, so flat things drawn at z = 0 stay visible.
+        self.assertLess(table[0].pose.position.z + table[0].scale.z / 2, 0.0)
+        beacons = sorted((m.id, m.pose.position.x, m.pose.position.y) for m in msg.markers if m.ns == 'beacons')
+        expected = rospy.get_param('/table/beacons')
+        self.assertEqual(len(beacons), len(expected))
+        for (_, x, y), (ex, ey) in zip(beacons, expected):
+            self.assertAlmostEqual(x, ex)
+            self.assertAlmostEqual(y, ey)
+        self.assertEqual(len([m for m in msg.markers if m.ns == 'borders']), 4)
+
+    def test_table_markers_refuse_a_bad_table(self):
+        # Its own private table param, on the test's master: one line naming the parameter.
+        rospy.set_param('/bad_table', {'length': -1.0, 'width': 2.1})
+        out = subprocess.run(['rosrun', 'robot_description', 'table_markers', '_table:=/bad_table',
+                              '__name:=bad_table_markers'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             timeout=30)
+        text = out.stdout.decode()
+        self.assertNotEqual(out.returncode, 0, text)
+        self.assertIn('/bad_table/length', text)
+        self.assertIn('must be a number > 0', text)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('system_tests', 'product_description', DescriptionTest, sys.argv)
