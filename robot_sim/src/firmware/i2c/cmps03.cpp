@@ -1,0 +1,67 @@
+// Emulator of the CMPS03 compass, I2C mode (datasheet register map). The bearing is
+// sampled when a read addresses register 0x00 or 0x01, so one block read is consistent.
+//
+// Parameters: ~bus (sim:///PATH), ~address (default 0x60),
+//   ~bearing   without a world: the bearing [deg] it reports, read live (default 0)
+// Truth (tests only): /sim/<name>/bearing (std_msgs/Float64, the bearing last sampled [deg]).
+// Faults: "board_silent".
+#include <std_msgs/Float64.h>
+
+#include <cmath>
+
+#include "register_chip.h"
+#include "robot_sim/firmware/firmware_registry.h"
+#include "robot_sim/world/world.h"
+
+namespace robot_sim {
+
+class CMPS03Firmware : public RegisterChip {
+ public:
+  ~CMPS03Firmware() override { stop(); }
+
+  void start(FirmwareContext& ctx) override {
+    world_ = ctx.world;
+    pnh_ = ctx.pnh;
+    truth_pub_ = ctx.nh.advertise<std_msgs::Float64>("/sim/" + ctx.name + "/bearing", 10, true);
+    attachBus(ctx, 0x08, 0x77);
+  }
+
+  void stop() override { detachBus(); }
+
+ protected:
+  uint8_t readRegister(uint8_t reg, bool first) override {
+    if (first && reg <= 0x01) sample();
+    switch (reg) {
+      case 0x00: return 0x0E;
+      case 0x01: return static_cast<uint8_t>(std::lround(word_ * 256.0 / 3600.0) & 0xFF);
+      case 0x02: return static_cast<uint8_t>(word_ >> 8);
+      case 0x03: return static_cast<uint8_t>(word_ & 0xFF);
+      default: return 0x00;
+    }
+  }
+  void writeRegister(uint8_t, uint8_t) override {}  // calibration commands: accepted, no effect
+
+ private:
+  void sample() {
+    double deg = 0.0;
+    if (world_)
+      deg = world_->measureCompassDeg();
+    else
+      pnh_.getParamCached("bearing", deg);
+    deg = std::fmod(deg, 360.0);
+    if (deg < 0.0) deg += 360.0;
+    word_ = static_cast<uint16_t>(std::lround(deg * 10.0) % 3600);
+    std_msgs::Float64 t;
+    t.data = word_ / 10.0;
+    truth_pub_.publish(t);
+  }
+
+  World* world_ = nullptr;
+  ros::NodeHandle pnh_;
+  uint16_t word_ = 0;
+  ros::Publisher truth_pub_;
+};
+
+ROBOT_SIM_REGISTER_FIRMWARE("cmps03", CMPS03Firmware);
+
+}  // namespace robot_sim

@@ -1,0 +1,122 @@
+// Emulator of the MCP23016 I/O expander (datasheet register map; pairs toggle: after
+// GP0 comes GP1, after GP1 comes GP0 again).
+//
+// Parameters: ~bus (sim:///PATH), ~address (0x20..0x27),
+//   ~pins         list of up to 16 world switch names, pin i <- pins[i] ("" = unconnected)
+//                 (with a world); a closed switch pulls its pin to ground (reads 0)
+//   ~input_levels without a world: the pin levels, 16 bits, read live (rosparam set works;
+//                 default 0xFFFF: every pin pulled up)
+// Truth (tests only): /sim/<name>/outputs (std_msgs/UInt16: OLAT on output pins, 20 Hz).
+// Faults: "board_silent", "board_reset" (registers back to power-on: IODIR 0xFFFF, rest 0).
+#include <std_msgs/UInt16.h>
+
+#include "register_chip.h"
+#include "robot_sim/firmware/firmware_registry.h"
+#include "robot_sim/world/world.h"
+
+namespace robot_sim {
+
+class MCP23016Firmware : public RegisterChip {
+ public:
+  ~MCP23016Firmware() override { stop(); }
+
+  void start(FirmwareContext& ctx) override {
+    world_ = ctx.world;
+    pnh_ = ctx.pnh;
+    if (ctx.pnh.hasParam("pins") && !ctx.pnh.getParam("pins", pins_))
+      throw std::runtime_error("parameter " + ctx.pnh.resolveName("pins") + " must be a list of switch names");
+    if (pins_.size() > 16) throw std::runtime_error("parameter " + ctx.pnh.resolveName("pins") + ": at most 16 pins");
+    powerOn();
+    truth_pub_ = ctx.nh.advertise<std_msgs::UInt16>("/sim/" + ctx.name + "/outputs", 10, true);
+    truth_timer_ = ctx.nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
+      std_msgs::UInt16 m;
+      std::lock_guard<std::mutex> lk(mutex_);
+      m.data = olat_ & static_cast<uint16_t>(~iodir_);
+      truth_pub_.publish(m);
+    });
+    attachBus(ctx, 0x20, 0x27);
+  }
+
+  void stop() override {
+    detachBus();
+    truth_timer_.stop();
+  }
+
+  bool applyFault(const std::string& kind, bool active) {
+    if (kind == "board_reset") {
+      if (active) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        powerOn();
+      }
+      return true;
+    }
+    if (kind != "board_silent") return false;
+    setSilent(active);
+    return true;
+  }
+
+ protected:
+  uint8_t readRegister(uint8_t reg, bool /*first*/) override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    const int port = reg & 1;
+    auto byte = [port](uint16_t v) { return static_cast<uint8_t>(port ? v >> 8 : v & 0xFF); };
+    switch (reg & 0xFE) {
+      case 0x00: {
+        const uint16_t in = static_cast<uint16_t>((pinLevels() ^ ipol_) & iodir_);
+        return byte(static_cast<uint16_t>(in | (olat_ & ~iodir_)));
+      }
+      case 0x02: return byte(olat_);
+      case 0x04: return byte(ipol_);
+      case 0x06: return byte(iodir_);
+      case 0x08: return byte(intcap_);
+      case 0x0A: return byte(iocon_);
+      default: return 0;
+    }
+  }
+
+  void writeRegister(uint8_t reg, uint8_t value) override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    auto set = [&](uint16_t& v) {
+      v = (reg & 1) ? static_cast<uint16_t>((v & 0x00FF) | (value << 8)) : static_cast<uint16_t>((v & 0xFF00) | value);
+    };
+    switch (reg & 0xFE) {
+      case 0x00: case 0x02: set(olat_); break;  // writing GP writes the latch
+      case 0x04: set(ipol_); break;
+      case 0x06: set(iodir_); break;
+      case 0x0A: set(iocon_); break;
+      default: break;
+    }
+  }
+
+  uint8_t nextPointer(uint8_t reg) override { return static_cast<uint8_t>(reg ^ 1); }
+
+ private:
+  void powerOn() {
+    olat_ = ipol_ = intcap_ = iocon_ = 0;
+    iodir_ = 0xFFFF;
+  }
+
+  uint16_t pinLevels() {
+    if (!world_) {
+      int levels = 0xFFFF;
+      pnh_.getParamCached("input_levels", levels);
+      return static_cast<uint16_t>(levels);
+    }
+    uint16_t v = 0xFFFF;
+    for (std::size_t i = 0; i < pins_.size(); ++i)
+      if (!pins_[i].empty() && world_->switchClosed(pins_[i])) v &= static_cast<uint16_t>(~(1u << i));
+    return v;
+  }
+
+  World* world_ = nullptr;
+  ros::NodeHandle pnh_;
+  std::vector<std::string> pins_;
+  std::mutex mutex_;
+  uint16_t olat_ = 0, ipol_ = 0, iodir_ = 0xFFFF, intcap_ = 0, iocon_ = 0;
+  ros::Publisher truth_pub_;
+  ros::WallTimer truth_timer_;
+};
+
+ROBOT_SIM_REGISTER_FIRMWARE("mcp23016", MCP23016Firmware);
+
+}  // namespace robot_sim

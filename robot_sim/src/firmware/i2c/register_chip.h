@@ -1,0 +1,65 @@
+// The common shape of an emulated I2C chip: a register pointer set by the first byte of a
+// write, auto-incremented by every byte read or written after it. Chips override the
+// register accessors (and nextPointer() when the pointer does not simply increment).
+// Also reads the common parameters: ~bus (sim:///PATH) and ~address.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <memory>
+#include <mutex>
+
+#include "i2c_bus_server.h"
+#include "robot_sim/firmware/firmware.h"
+
+namespace robot_sim {
+
+class RegisterChip : public Firmware, public I2cSlave {
+ public:
+  ~RegisterChip() override { detachBus(); }
+
+  bool acknowledge() override { return !silent(); }
+  void i2cWrite(const uint8_t* data, std::size_t n) override {
+    if (n == 0) return;
+    pointer_ = data[0];
+    for (std::size_t i = 1; i < n; ++i) {
+      writeRegister(pointer_, data[i]);
+      pointer_ = nextPointer(pointer_);
+    }
+  }
+  void i2cRead(uint8_t* data, std::size_t n) override {
+    for (std::size_t i = 0; i < n; ++i) {
+      data[i] = readRegister(pointer_, i == 0);
+      pointer_ = nextPointer(pointer_);
+    }
+  }
+
+ protected:
+  virtual uint8_t readRegister(uint8_t reg, bool first_of_read) = 0;
+  virtual void writeRegister(uint8_t reg, uint8_t value) = 0;
+  virtual uint8_t nextPointer(uint8_t reg) { return static_cast<uint8_t>(reg + 1); }
+
+  // Reads ~bus and ~address (within lo..hi) and attaches to the bus. Throws std::runtime_error.
+  void attachBus(FirmwareContext& ctx, int lo, int hi) {
+    std::string url;
+    if (!ctx.pnh.getParam("bus", url)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("bus") + " missing: sim:///PATH");
+    int address = -1;
+    if (!ctx.pnh.getParam("address", address) || address < lo || address > hi)
+      throw std::runtime_error("parameter " + ctx.pnh.resolveName("address") + " must be a 7-bit address in " +
+                               std::to_string(lo) + ".." + std::to_string(hi));
+    address_ = static_cast<uint8_t>(address);
+    bus_ = I2cBusServer::attach(simBusPath(url, ctx.pnh.resolveName("bus")), address_, this);
+  }
+  void detachBus() {
+    if (bus_) bus_->detach(address_);
+    bus_.reset();
+  }
+
+  uint8_t pointer_ = 0;
+  uint8_t address_ = 0;
+
+ private:
+  std::shared_ptr<I2cBusServer> bus_;
+};
+
+}  // namespace robot_sim
