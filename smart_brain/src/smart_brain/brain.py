@@ -1,15 +1,39 @@
-"""The brain node: loads the strategy named by ~strategy and runs it.
+"""The brain node: loads the strategy named by ~strategy and runs it under the match timer.
 
-Parameters:
-  ~strategy        registered strategy name (required)
-  ~rate            [Hz] execute() rate (default 10)
-  ~device_timeout  [s] how long to wait for the strategy's HAL devices (default 10)
+Parameters (config/<robot>.yaml, block `brain:`):
+  ~strategy            registered strategy name (required)
+  ~rate                [Hz] execute() rate (default 10)
+  ~device_timeout      [s] how long to wait for the strategy's HAL devices (default 10)
+  ~strategy_modules    extra Python modules that @register strategies (default [])
+  ~match/enabled       run under the match timer (default: the strategy's `timed`)
+  ~match/duration      [s] match length, start signal to match end (default 100)
+  ~match/start         cord: wait for the start signal; immediate: start at once (default cord)
+  ~match/start_topic   the HAL human interface (hal_nodes/HumanInput, `started`) (default /hal/hmi/input)
+  ~match/funny_action  run the strategy's funny_action() after the match end (default false)
+  ~match/deactivate_service  (default /effectors/deactivate, std_srvs/Trigger, from hal_node)
+  ~triggers/<kind>     trigger blocks for state-machine strategies (smart_brain/triggers)
+  ~<strategy>/...      each strategy's own block
+
+Interface:
+  ~start (std_srvs/Trigger)              start signal without the cord (operator, tests)
+  ~switch_strategy (SwitchStrategy)      replace the strategy at runtime (refused after the match end)
+  ~start_action (StartAction), ~stop_action (std_srvs/Trigger): the BrainSlave
+  ~match_status (MatchStatus, latched), ~action_status (ActionStatus), ~smach/* (introspection)
+
+At the match end, whatever the strategy is doing (even blocked in execute()), the match
+timer's thread closes the goal guard (every action goal cancelled, new ones refused),
+zeroes /hal/drive/cmd_vel, calls /effectors/deactivate until it succeeds, then stops the
+strategy and the BrainSlave.
 """
 import sys
+import threading
+import time
 
 import rospy
+from std_srvs.srv import Trigger, TriggerResponse
 
 from smart_brain import strategy as strategies
+from smart_brain.statemachine import GOAL_GUARD
 from smart_brain.strategy import StrategyError
 
 
@@ -23,17 +47,29 @@ def hal_devices_present():
     return present
 
 
-def wait_for_devices(required, timeout):
-    """Wait until every required device publishes; StrategyError naming the missing ones."""
-    deadline = rospy.get_time() + timeout
+def topics_present():
+    return {topic for topic, _type in rospy.get_published_topics()}
+
+
+def missing_requirements(strategy):
+    missing = ['/hal/' + m for m in sorted(set(strategy.required_devices) - hal_devices_present())]
+    if strategy.required_topics:
+        missing += sorted(set(strategy.required_topics) - topics_present())
+    return missing
+
+
+def wait_for_devices(strategy, timeout):
+    """Wait until every required device and topic publishes; StrategyError naming the missing ones."""
+    deadline = time.monotonic() + timeout
     while not rospy.is_shutdown():
-        missing = sorted(set(required) - hal_devices_present())
+        missing = missing_requirements(strategy)
         if not missing:
             return
-        if rospy.get_time() > deadline:
-            raise StrategyError('HAL device(s) missing after %.0f s: %s (is hal_node running with them configured?)'
-                                % (timeout, ', '.join('/hal/' + m for m in missing)))
-        rospy.sleep(0.2)
+        if time.monotonic() > deadline:
+            raise StrategyError('strategy %s: HAL device(s)/topic(s) missing after %.0f s: %s '
+                                '(is hal_node running with them configured?)'
+                                % (strategy.name, timeout, ', '.join(missing)))
+        time.sleep(0.2)
 
 
 def positive_param(name, default):
@@ -43,31 +79,229 @@ def positive_param(name, default):
     return float(value)
 
 
+def choice_param(name, default, allowed):
+    value = rospy.get_param(name, default)
+    if value not in allowed:
+        raise StrategyError('parameter %s = %r: allowed values: %s'
+                            % (rospy.resolve_name(name), value, ', '.join(map(str, allowed))))
+    return value
+
+
+class Brain(object):
+    def __init__(self):
+        if not rospy.has_param('~strategy'):
+            strategies.load_modules(rospy.get_param('~strategy_modules', []))
+            raise StrategyError('missing required parameter %s; allowed values: %s'
+                                % (rospy.resolve_name('~strategy'), ', '.join(strategies.available())))
+        strategies.load_modules(rospy.get_param('~strategy_modules', []))
+        self.rate_hz = positive_param('~rate', 10.0)
+        self.device_timeout = positive_param('~device_timeout', 10.0)
+        self.strategy = strategies.create(str(rospy.get_param('~strategy')))
+        self.timed = choice_param('~match/enabled', self.strategy.timed, (True, False))
+        self.duration = positive_param('~match/duration', 100.0)
+        self.start_mode = choice_param('~match/start', 'cord', ('cord', 'immediate'))
+        self.start_topic = rospy.get_param('~match/start_topic', '/hal/hmi/input')
+        self.funny = choice_param('~match/funny_action', False, (True, False))
+        self.deactivate_service = rospy.get_param('~match/deactivate_service', '/effectors/deactivate')
+        rospy.loginfo('brain: strategy %s: %s', self.strategy.name, self.strategy.description)
+        wait_for_devices(self.strategy, self.device_timeout)
+
+        from smart_brain.msg import ActionStatus, MatchStatus
+        from smart_brain.slave import BrainSlave
+        from smart_brain.srv import StartAction, SwitchStrategy
+        self._MatchStatus, self._ActionStatus = MatchStatus, ActionStatus
+        self.slave = BrainSlave()
+        from smart_brain.actions import stop
+        stop.prepare()
+        self._switch_lock = threading.Lock()
+        self._switch_to = None
+        self.match_over = False
+        self.deactivated = False
+        self._end_done = threading.Event()
+        self._match_pub = rospy.Publisher('~match_status', MatchStatus, queue_size=1, latch=True)
+        self._action_pub = rospy.Publisher('~action_status', ActionStatus, queue_size=1)
+        self.timer = None
+        if self.timed:
+            from smart_brain.match_timer import MatchTimer
+            self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end)
+            if self.start_mode == 'cord':
+                from hal_nodes.msg import HumanInput
+                self._start_sub = rospy.Subscriber(self.start_topic, HumanInput, self._on_hmi, queue_size=1)
+        rospy.Service('~start', Trigger, self._srv_start)
+        rospy.Service('~switch_strategy', SwitchStrategy, self._srv_switch)
+        rospy.Service('~start_action', StartAction, self._srv_start_action)
+        rospy.Service('~stop_action', Trigger, self._srv_stop_action)
+        self._status_timer = rospy.Timer(rospy.Duration(0.2), lambda _ev: self.publish_status())
+
+    # ---- start signal ----
+    def _on_hmi(self, msg):
+        if msg.started and self.timer.start():
+            rospy.loginfo('brain: start signal from %s', self.start_topic)
+
+    def _srv_start(self, _req):
+        if self.timer is None:
+            return TriggerResponse(False, 'strategy %s is not under the match timer' % self.strategy.name)
+        if self.timer.start():
+            rospy.loginfo('brain: start signal from %s', rospy.resolve_name('~start'))
+            return TriggerResponse(True, 'match started')
+        return TriggerResponse(False, 'the match had already started')
+
+    def _on_match_start(self):
+        rospy.loginfo('brain: match started (%.0f s)', self.duration)
+        self.publish_status()
+
+    # ---- match end: the guard above every strategy ----
+    def _on_match_end(self):
+        t0 = time.monotonic()
+        self.match_over = True
+        cancelled = GOAL_GUARD.close('match end')
+        from smart_brain.actions.stop import publish_zero
+        publish_zero(times=3)
+        self.deactivated = self._deactivate_effectors()
+        rospy.logwarn('brain: MATCH END after %.1f s: %d goal(s) cancelled, effectors %s (%.0f ms)',
+                      self.timer.elapsed(), cancelled, 'deactivated' if self.deactivated else 'NOT deactivated',
+                      1000 * (time.monotonic() - t0))
+        self.publish_status()
+        self.slave.stop()
+        self.strategy.stop()
+        if self.funny:
+            self._funny_action()
+        self._end_done.set()
+
+    def _deactivate_effectors(self, timeout=3.0):
+        proxy = rospy.ServiceProxy(self.deactivate_service, Trigger)
+        deadline = time.monotonic() + timeout
+        while not rospy.is_shutdown():
+            try:
+                rospy.wait_for_service(self.deactivate_service, timeout=0.5)
+                res = proxy()
+                if res.success:
+                    return True
+                rospy.logerr('brain: %s refused: %s', self.deactivate_service, res.message)
+            except (rospy.ROSException, rospy.ServiceException) as e:
+                rospy.logerr('brain: %s failed: %s', self.deactivate_service, e)
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.05)
+        return False
+
+    def _funny_action(self):
+        rospy.loginfo('brain: funny action of %s', self.strategy.name)
+        try:
+            self.strategy.funny_action()
+        except Exception as e:
+            rospy.logerr('brain: funny action failed: %s', e)
+
+    # ---- strategy switching ----
+    def _srv_switch(self, req):
+        from smart_brain.srv import SwitchStrategyResponse
+        available = strategies.available()
+        if self.match_over:
+            return SwitchStrategyResponse(False, 'the match is over', available)
+        try:
+            new = strategies.create(req.name)
+            missing = missing_requirements(new)
+            if missing:
+                raise StrategyError('strategy %s: HAL device(s)/topic(s) missing: %s' % (req.name, ', '.join(missing)))
+        except StrategyError as e:
+            return SwitchStrategyResponse(False, str(e), available)
+        with self._switch_lock:
+            self._switch_to = new
+        rospy.loginfo('brain: switching to strategy %s', new.name)
+        return SwitchStrategyResponse(True, new.description, available)
+
+    def _do_switch(self):
+        with self._switch_lock:
+            new, self._switch_to = self._switch_to, None
+        if new is None:
+            return
+        old = self.strategy
+        old.stop()
+        old.finalize()
+        self.strategy = new
+        new.initialize()
+        self.publish_status()
+
+    # ---- BrainSlave ----
+    def _srv_start_action(self, req):
+        import yaml
+        from smart_brain import actions
+        from smart_brain.srv import StartActionResponse
+        if GOAL_GUARD.closed:
+            return StartActionResponse(False, 'refused: %s' % GOAL_GUARD.reason)
+        try:
+            args = yaml.safe_load(req.args_yaml) if req.args_yaml.strip() else {}
+            if args is not None and not isinstance(args, dict):
+                raise ValueError('args_yaml must be a mapping, got %r' % (args,))
+            if req.id == self.slave.current_id and self.slave.running():
+                return StartActionResponse(True, 'already running')
+            state = actions.create(req.action, args)
+            return StartActionResponse(True, self.slave.start(req.id, state))
+        except Exception as e:
+            return StartActionResponse(False, str(e))
+
+    def _srv_stop_action(self, _req):
+        return TriggerResponse(self.slave.stop(), 'stopped %s' % self.slave.current_id)
+
+    # ---- status ----
+    def publish_status(self):
+        if rospy.is_shutdown():
+            return
+        m = self._MatchStatus()
+        m.header.stamp = rospy.Time.now()
+        if self.timer is None:
+            m.state = 'untimed'
+        elif self.match_over:
+            m.state = 'ended'
+        else:
+            m.state = 'running' if self.timer.started else 'waiting_for_start'
+        m.strategy = self.strategy.name
+        if self.timer is not None:
+            m.elapsed, m.remaining = self.timer.elapsed(), self.timer.remaining()
+        m.effectors_deactivated = self.deactivated
+        self._match_pub.publish(m)
+        aid, state, elapsed, progress, outcome = self.slave.status()
+        a = self._ActionStatus(id=aid, state=state, elapsed=elapsed, progress=progress, outcome=outcome)
+        a.header.stamp = m.header.stamp
+        self._action_pub.publish(a)
+
+    # ---- main loop ----
+    def run(self):
+        self.strategy.initialize()
+        if self.timer is not None:
+            if self.start_mode == 'immediate':
+                self.timer.start()
+            else:
+                rospy.loginfo('brain: waiting for the start signal on %s (or %s)', self.start_topic,
+                              rospy.resolve_name('~start'))
+            while not rospy.is_shutdown() and not self.timer.wait_started(0.05):
+                self._do_switch()
+        rate = rospy.Rate(self.rate_hz)
+        finished = False
+        try:
+            while not rospy.is_shutdown() and not self.match_over:
+                self._do_switch()
+                if not finished and self.strategy.execute() is False:
+                    rospy.loginfo('brain: strategy %s finished', self.strategy.name)
+                    finished = True
+                    if self.timer is None:
+                        break
+                rate.sleep()
+        except rospy.ROSInterruptException:
+            pass
+        finally:
+            self.strategy.stop()
+            self.strategy.finalize()
+        if self.timer is not None and not rospy.is_shutdown():
+            self._end_done.wait()
+            rospy.spin()   # stay up: status latched, services answer (refusing), nodes can ping
+
+
 def main():
     rospy.init_node('brain')
     try:
-        if not rospy.has_param('~strategy'):
-            raise StrategyError('missing required parameter %s; allowed values: %s'
-                                % (rospy.resolve_name('~strategy'), ', '.join(strategies.available())))
-        name = rospy.get_param('~strategy')
-        rate_hz = positive_param('~rate', 10.0)
-        device_timeout = positive_param('~device_timeout', 10.0)
-        strategy = strategies.create(str(name))
-        rospy.loginfo('brain: strategy %s: %s', strategy.name, strategy.description)
-        wait_for_devices(strategy.required_devices, device_timeout)
+        brain = Brain()
     except StrategyError as e:
         rospy.logfatal('brain: %s', e)
         sys.exit(2)
-
-    strategy.initialize()
-    rate = rospy.Rate(rate_hz)
-    try:
-        while not rospy.is_shutdown():
-            if strategy.execute() is False:
-                rospy.loginfo('brain: strategy %s finished', strategy.name)
-                break
-            rate.sleep()
-    except rospy.ROSInterruptException:
-        pass
-    finally:
-        strategy.finalize()
+    brain.run()

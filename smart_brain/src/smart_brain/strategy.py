@@ -3,6 +3,13 @@
 A strategy has a name, a one-line description and the HAL devices it needs. The brain
 calls initialize() once, execute() in a loop at the brain's rate until it returns
 False or the node stops, and finalize() once at the end, whatever happened.
+
+Added for the match (all optional, with defaults that keep older strategies working):
+`timed` puts the strategy under the match timer (start signal, match end); `stop()` is
+called from another thread at the match end or on a strategy switch and must make
+execute() wind down promptly; `funny_action()` runs after the match end when configured;
+`required_topics` lists topics outside /hal the strategy needs (e.g. /mcl/pose).
+A strategy built as a state machine derives from machine_strategy.MachineStrategy.
 """
 
 
@@ -17,6 +24,10 @@ class Strategy(object):
     description = ''
     #: HAL device names (under /hal) this strategy needs, checked before initialize()
     required_devices = ()
+    #: other topics this strategy needs (absolute names), checked like the devices
+    required_topics = ()
+    #: under the match timer: waits for the start signal, stopped at the match end
+    timed = True
 
     def initialize(self):
         """Set up subscriptions and publishers to HAL."""
@@ -27,6 +38,12 @@ class Strategy(object):
 
     def finalize(self):
         """Leave the robot safe: stop what this strategy started."""
+
+    def stop(self):
+        """Called from another thread (match end, strategy switch): make execute() return False soon."""
+
+    def funny_action(self):
+        """The end-of-match hook, run after every effector was deactivated, only if configured."""
 
 
 _REGISTRY = {}
@@ -55,6 +72,16 @@ def create(name):
         raise StrategyError("parameter ~strategy = '%s': unknown strategy; allowed values: %s"
                             % (name, ', '.join(sorted(_REGISTRY))))
     return _REGISTRY[name]()
+
+
+def load_modules(names):
+    """Import extra modules that @register strategies (the brain's ~strategy_modules)."""
+    import importlib
+    for name in names:
+        try:
+            importlib.import_module(name)
+        except ImportError as e:
+            raise StrategyError('parameter ~strategy_modules: cannot import %s: %s' % (name, e))
 
 
 def _load_builtin():

@@ -15,6 +15,8 @@ class ExampleStrategy(Strategy):
     name = 'example'
     description = 'skeleton robot: lamp brightness follows the dial position'
     required_devices = ('example_device',)
+    #: a demo, not a match: no start signal, no match end
+    timed = False
 
     #: a reading older than this is not acted on [s]
     max_reading_age = 0.5

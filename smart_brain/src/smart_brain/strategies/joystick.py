@@ -1,0 +1,157 @@
+"""Joystick: drive by hand from the HAL joystick device; buttons call effector callbacks.
+
+Axes and buttons are the joystick device's names (hal_nodes/JoystickState on
+~joystick/state_topic, edges as hal_nodes/JoystickEvent on ~joystick/events_topic).
+Config (~joystick): linear_axis, angular_axis, max_linear [m/s], max_angular [rad/s],
+deadman (a button that must be held to drive; '' none), max_age [s] (older pad state:
+zero speed), buttons {button name: callback} with callbacks from CALLBACKS below.
+Twists go to /hal/drive/cmd_vel as the pad's states arrive; when the pad goes stale a
+single zero is sent (the drive effector's own command timeout stops the wheels anyway).
+"""
+import threading
+import time
+
+import rospy
+
+from smart_brain.slave import BrainSlave
+from smart_brain.strategy import Strategy, StrategyError, register
+
+CMD_VEL = '/hal/drive/cmd_vel'
+
+
+def _hand(command, height=0.0):
+    def cb(strategy):
+        from smart_brain.actions.hand import hand
+        strategy.slave.start('hand_%s_%s' % (command, time.monotonic()), hand(command, height=height))
+    return cb
+
+
+def _effectors(on):
+    def cb(strategy):
+        from std_srvs.srv import Trigger
+        name = '/effectors/activate' if on else '/effectors/deactivate'
+        try:
+            rospy.ServiceProxy(name, Trigger)()
+        except (rospy.ServiceException, rospy.ROSException) as e:
+            rospy.logerr('joystick: %s failed: %s', name, e)
+    return cb
+
+
+def _stop(strategy):
+    strategy.slave.stop()
+    strategy.publish(0.0, 0.0)
+
+
+#: what a button can do (config ~joystick/buttons: {button: callback})
+CALLBACKS = {
+    'hand_open': _hand('open'),
+    'hand_close': _hand('close'),
+    'hand_lift': _hand('lift', 0.06),
+    'hand_lower': _hand('lift', 0.0),
+    'effectors_on': _effectors(True),
+    'effectors_off': _effectors(False),
+    'stop': _stop,
+}
+
+
+@register
+class JoystickStrategy(Strategy):
+    name = 'joystick'
+    description = 'drive by hand with the gamepad; buttons call effector callbacks (config)'
+    required_devices = ('joystick',)
+
+    def _param(self, key, default, kind=float):
+        value = rospy.get_param('~joystick/%s' % key, default)
+        try:
+            return kind(value)
+        except (TypeError, ValueError):
+            raise StrategyError('parameter %s = %r: must be a %s' % (rospy.resolve_name('~joystick/' + key), value,
+                                                                   kind.__name__))
+
+    def initialize(self):
+        from geometry_msgs.msg import Twist
+        from hal_nodes.msg import JoystickEvent, JoystickState
+        self.linear_axis = self._param('linear_axis', 'left_y', str)
+        self.angular_axis = self._param('angular_axis', 'left_x', str)
+        self.max_linear = self._param('max_linear', 0.4)
+        self.max_angular = self._param('max_angular', 2.0)
+        self.deadman = self._param('deadman', '', str)
+        self.max_age = self._param('max_age', 0.3)
+        buttons = rospy.get_param('~joystick/buttons', {})
+        self.bindings = {}
+        for button, callback in buttons.items():
+            if callback not in CALLBACKS:
+                raise StrategyError("parameter %s = '%s': allowed values: %s"
+                                    % (rospy.resolve_name('~joystick/buttons/' + button), callback,
+                                       ', '.join(sorted(CALLBACKS))))
+            self.bindings[button] = CALLBACKS[callback]
+        self.slave = BrainSlave()
+        self._lock = threading.Lock()
+        self._last_state = None
+        self._stale_sent = True
+        self._stopped = False
+        self._Twist = Twist
+        self._pub = rospy.Publisher(CMD_VEL, Twist, queue_size=1)
+        self._subs = [
+            rospy.Subscriber(self._param('state_topic', '/hal/joystick/state', str), JoystickState, self._on_state,
+                             queue_size=1),
+            rospy.Subscriber(self._param('events_topic', '/hal/joystick/events', str), JoystickEvent, self._on_event,
+                             queue_size=20),
+        ]
+
+    def publish(self, linear, angular):
+        t = self._Twist()
+        t.linear.x, t.angular.z = linear, angular
+        self._pub.publish(t)
+
+    def command_for(self, msg):
+        """(linear, angular) for a JoystickState."""
+        axes = dict(zip(msg.axis_names, msg.axes))
+        held = dict(zip(msg.button_names, msg.buttons))
+        if self.deadman and not held.get(self.deadman, False):
+            return 0.0, 0.0
+        clamp = lambda v: max(-1.0, min(1.0, v))  # noqa: E731
+        return (clamp(axes.get(self.linear_axis, 0.0)) * self.max_linear,
+                clamp(axes.get(self.angular_axis, 0.0)) * self.max_angular)
+
+    def _on_state(self, msg):
+        if self._stopped:
+            return
+        with self._lock:
+            self._last_state = time.monotonic()
+            self._stale_sent = False
+        self.publish(*self.command_for(msg))
+
+    def _on_event(self, msg):
+        if self._stopped or not msg.pressed:
+            return
+        cb = self.bindings.get(msg.button)
+        if cb is not None:
+            rospy.loginfo('joystick: %s -> %s', msg.button, cb.__name__ if hasattr(cb, '__name__') else cb)
+            try:
+                cb(self)
+            except Exception as e:
+                rospy.logerr('joystick: button %s: %s', msg.button, e)
+
+    def execute(self):
+        if self._stopped:
+            return False
+        with self._lock:
+            stale = self._last_state is None or time.monotonic() - self._last_state > self.max_age
+            send = stale and not self._stale_sent
+            if send:
+                self._stale_sent = True
+        if send:
+            rospy.logwarn('joystick: pad stale, zero speed')
+            self.publish(0.0, 0.0)
+        return True
+
+    def stop(self):
+        self._stopped = True
+        self.slave.stop()
+
+    def finalize(self):
+        self.stop()
+        for s in self._subs:
+            s.unregister()
+        self.publish(0.0, 0.0)

@@ -1,0 +1,70 @@
+"""opponent_ahead: a ranger in the driving direction sees something nearer than `distance`.
+
+Config (~triggers/opponent_ahead): rangers (names under /hal/rangers/ looking forwards),
+rear_rangers (used while driving backwards, from /odom), distance [m], max_age [s] of a
+reading, debounce, holdoff [s], clear_time, max_wait [s], then (decision after max_wait).
+Fires -> zero wheel speed at once, the running state is preempted (its driver goal
+cancelled), the handler waits for the way to clear, then the state resumes.
+"""
+import threading
+import time
+
+from smart_brain.statemachine import Trigger
+from smart_brain.triggers import Config, decision_param
+from smart_brain.triggers.wait_clear import WaitClear
+from smart_brain.actions.stop import publish_zero
+
+KIND = 'opponent_ahead'
+
+
+class RangerWatch(object):
+    def __init__(self, front, rear, distance, max_age, notify):
+        import rospy
+        from nav_msgs.msg import Odometry
+        from sensor_msgs.msg import Range
+        self.distance = distance
+        self.max_age = max_age
+        self._lock = threading.Lock()
+        self._latest = {}     # name -> (monotonic receive time, range)
+        self._backwards = False
+        self._front, self._rear = list(front), list(rear)
+        self._notify = notify
+        self._subs = [rospy.Subscriber('/hal/rangers/' + n, Range, self._on_range, callback_args=n, queue_size=1)
+                      for n in self._front + self._rear]
+        if self._rear:
+            self._subs.append(rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=1))
+
+    def _on_range(self, msg, name):
+        near = msg.min_range <= msg.range < self.distance and msg.range <= msg.max_range
+        with self._lock:
+            self._latest[name] = (time.monotonic(), near)
+        if near:
+            self._notify()   # poll the trigger now, not at the next supervisor tick
+
+    def _on_odom(self, msg):
+        self._backwards = msg.twist.twist.linear.x < -0.01
+
+    def __call__(self):
+        names = self._rear if self._backwards and self._rear else self._front
+        now = time.monotonic()
+        with self._lock:
+            return any(n in self._latest and now - self._latest[n][0] <= self.max_age and self._latest[n][1]
+                       for n in names)
+
+
+def make(values):
+    cfg = Config(KIND, values)
+    front = cfg.get('rangers', [], list)
+    rear = cfg.get('rear_rangers', [], list)
+    distance = cfg.get('distance', 0.3)
+    max_age = cfg.get('max_age', 0.5)
+    debounce = cfg.get('debounce', 0.0)
+    holdoff = cfg.get('holdoff', 1.0)
+    handler_args = dict(clear_time=cfg.get('clear_time', 0.5), max_wait=cfg.get('max_wait', 3.0),
+                        then=decision_param(cfg))
+    cfg.done()
+    trig = Trigger(KIND, None, None, debounce=debounce, holdoff=holdoff, priority=2, on_fire=publish_zero)
+    watch = RangerWatch(front, rear, distance, max_age, trig.notify)
+    trig.condition = watch
+    trig.handler = WaitClear(watch, **handler_args)
+    return trig

@@ -1,0 +1,105 @@
+"""Brain parts without ROS: the BrainSlave contract, the match timer, trigger debounce,
+the strategy registry's built-in strategies."""
+import threading
+import time
+import unittest
+
+from sm_helpers import Sleeper
+from smart_brain import strategy as strategies
+from smart_brain.match_timer import MatchTimer
+from smart_brain.slave import BrainSlave
+from smart_brain.statemachine import Trigger, WaitState
+
+
+class SlaveTest(unittest.TestCase):
+    def test_one_action_at_a_time_by_id(self):
+        slave = BrainSlave()
+        a, b = Sleeper(10.0), Sleeper(10.0)
+        self.assertEqual(slave.start('A', a), 'started')
+        self.assertTrue(a.started.wait(1.0))
+        self.assertEqual(slave.start('A', Sleeper(10.0)), 'already running')
+        self.assertEqual(a.runs, 1)
+        time.sleep(0.2)
+        self.assertEqual(slave.current_id, 'A')
+        self.assertGreaterEqual(slave.elapsed(), 0.2)
+        self.assertEqual(slave.start('B', b), 'replaced A')
+        self.assertEqual(a.preempted, 1)
+        self.assertTrue(b.started.wait(1.0))
+        self.assertEqual(slave.current_id, 'B')
+        self.assertLess(slave.elapsed(), 0.2)
+        self.assertEqual(slave.status()[1], 'running')
+        self.assertTrue(slave.stop())
+        self.assertEqual(slave.status()[1], 'preempted')
+
+    def test_progress_comes_from_the_action_and_is_100_when_done(self):
+        class Half(WaitState):
+            def progress(self):
+                return 50.0
+        slave = BrainSlave()
+        slave.start('H', Half(0.2))
+        time.sleep(0.05)
+        self.assertEqual(slave.progress(), 50.0)
+        time.sleep(0.3)
+        self.assertEqual(slave.progress(), 100.0)
+        self.assertEqual(slave.status()[1], 'succeeded')
+
+    def test_same_id_after_the_end_runs_again(self):
+        slave = BrainSlave()
+        slave.start('X', WaitState(0.01))
+        time.sleep(0.1)
+        self.assertEqual(slave.start('X', WaitState(0.01)), 'started')
+
+
+class MatchTimerTest(unittest.TestCase):
+    def test_end_comes_once_at_the_duration_after_the_start(self):
+        events = []
+        ended = threading.Event()
+        timer = MatchTimer(0.3, lambda: events.append(('start', time.monotonic())),
+                           lambda: (events.append(('end', time.monotonic())), ended.set()))
+        time.sleep(0.2)
+        self.assertEqual(events, [], 'nothing before the start signal')
+        self.assertFalse(timer.started)
+        self.assertTrue(timer.start())
+        self.assertFalse(timer.start(), 'a second start signal is ignored')
+        self.assertTrue(ended.wait(2.0))
+        self.assertEqual([e[0] for e in events], ['start', 'end'])
+        self.assertAlmostEqual(events[1][1] - events[0][1], 0.3, delta=0.05)
+        self.assertTrue(timer.ended)
+        self.assertEqual(timer.remaining(), 0.0)
+
+    def test_end_now(self):
+        ended = threading.Event()
+        timer = MatchTimer(100.0, lambda: None, ended.set)
+        timer.start()
+        timer.end_now()
+        self.assertTrue(ended.wait(1.0))
+
+
+class TriggerTest(unittest.TestCase):
+    def test_debounce_and_holdoff(self):
+        cond = {'v': False}
+        trig = Trigger('t', lambda: cond['v'], None, debounce=0.1, holdoff=1.0)
+        self.assertFalse(trig.update(0.0))
+        cond['v'] = True
+        self.assertFalse(trig.update(1.0))
+        self.assertFalse(trig.update(1.05))
+        self.assertTrue(trig.update(1.1))
+        trig.handled(1.2)
+        self.assertFalse(trig.update(1.5))   # still true, but within the holdoff
+        self.assertFalse(trig.update(2.1))
+        self.assertTrue(trig.update(2.3))    # held for the debounce again after the holdoff
+        self.assertEqual(trig.fired, 2)
+
+
+class RegistryTest(unittest.TestCase):
+    def test_every_strategy_of_the_issue_is_registered(self):
+        for name in ('example', 'homologation', 'match', 'match2008', 'match2009', 'joystick'):
+            self.assertIn(name, strategies.available())
+
+    def test_only_the_demo_runs_without_the_match_timer(self):
+        self.assertFalse(strategies.create('example').timed)
+        self.assertTrue(strategies.create('homologation').timed)
+
+
+if __name__ == '__main__':
+    unittest.main()

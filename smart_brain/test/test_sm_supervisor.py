@@ -1,0 +1,144 @@
+"""Supervisor: triggers preempt the body, handlers decide resume / restart / goto / abort; debounce."""
+import threading
+import time
+import unittest
+
+from sm_helpers import Counter, Sleeper
+from smart_brain.statemachine import CBState, Runner, StateMachine, Supervisor, Trigger
+
+
+class Flag(object):
+    def __init__(self):
+        self.value = False
+
+    def __call__(self):
+        return self.value
+
+
+def body_machine(work):
+    first, last = Counter('done'), Counter('done')
+    sm = StateMachine(outcomes=['done', 'preempted'])
+    sm.add('FIRST', first, transitions={'done': 'WORK', 'preempted': 'preempted'})
+    sm.add('WORK', work, transitions={'done': 'LAST', 'preempted': 'preempted'})
+    sm.add('LAST', last, transitions={'done': 'done', 'preempted': 'preempted'})
+    return sm, first, last
+
+
+def handler(decision, flag=None):
+    def cb(ud):
+        if flag is not None:
+            flag.value = False   # the handler cleared the obstacle
+        return decision
+    return CBState(cb, outcomes=[decision])
+
+
+class SupervisorTest(unittest.TestCase):
+    def run_with_trigger(self, decision, work_duration=0.3):
+        work = Sleeper(work_duration)
+        sm, first, last = body_machine(work)
+        flag = Flag()
+        trig = Trigger('obstacle', flag, handler(decision, flag), debounce=0.0)
+        sup = Supervisor(sm, [trig])
+        runner = Runner('sup')
+        runner.start(sup)
+        self.assertTrue(work.started.wait(2.0))
+        flag.value = True
+        self.assertTrue(runner.wait(5.0))
+        return runner.outcome, first, work, last, trig
+
+    def test_resume_reenters_the_interrupted_state(self):
+        outcome, first, work, last, trig = self.run_with_trigger('resume')
+        self.assertEqual(outcome, 'done')
+        self.assertEqual(trig.fired, 1)
+        self.assertEqual((first.runs, work.runs, work.preempted, last.runs), (1, 2, 1, 1))
+
+    def test_restart_starts_from_the_initial_state(self):
+        outcome, first, work, last, _ = self.run_with_trigger('restart')
+        self.assertEqual(outcome, 'done')
+        self.assertEqual((first.runs, work.runs, last.runs), (2, 2, 1))
+
+    def test_goto_jumps_to_the_named_state(self):
+        outcome, first, work, last, _ = self.run_with_trigger('LAST')
+        self.assertEqual(outcome, 'done')
+        self.assertEqual((first.runs, work.runs, last.runs), (1, 1, 1))
+        self.assertEqual(work.preempted, 1)
+
+    def test_abort_ends_the_supervisor(self):
+        outcome, first, work, last, _ = self.run_with_trigger('aborted')
+        self.assertEqual(outcome, 'aborted')
+        self.assertEqual(last.runs, 0)
+
+    def test_deep_history_resumes_inside_nested_machines(self):
+        work = Sleeper(0.3)
+        inner, inner_first, _ = body_machine(work)
+        outer = StateMachine(outcomes=['done', 'preempted'])
+        before = Counter('done')
+        outer.add('BEFORE', before, transitions={'done': 'INNER', 'preempted': 'preempted'})
+        outer.add('INNER', inner, transitions={'done': 'done', 'preempted': 'preempted'})
+        flag = Flag()
+        sup = Supervisor(outer, [Trigger('t', flag, handler('resume', flag))])
+        runner = Runner('sup')
+        runner.start(sup)
+        work.started.wait(2.0)
+        flag.value = True
+        runner.wait(5.0)
+        self.assertEqual(runner.outcome, 'done')
+        self.assertEqual((before.runs, inner_first.runs, work.runs), (1, 1, 2))
+
+    def test_debounce_ignores_short_blips(self):
+        work = Sleeper(0.6)
+        sm, _, _ = body_machine(work)
+        flag = Flag()
+        trig = Trigger('blip', flag, handler('resume', flag), debounce=0.15)
+        sup = Supervisor(sm, [trig])
+        runner = Runner('sup')
+        runner.start(sup)
+        work.started.wait(2.0)
+        for _ in range(3):      # 50 ms blips, shorter than the debounce
+            flag.value = True
+            time.sleep(0.05)
+            flag.value = False
+            time.sleep(0.05)
+        runner.wait(5.0)
+        self.assertEqual(trig.fired, 0)
+        self.assertEqual(work.preempted, 0)
+
+    def test_holdoff_limits_refiring_of_a_stuck_condition(self):
+        work = Sleeper(0.5)
+        sm, _, _ = body_machine(work)
+        trig = Trigger('stuck', lambda: True, handler('resume'), debounce=0.0, holdoff=0.2)
+        sup = Supervisor(sm, [trig])
+        runner = Runner('sup')
+        t0 = time.monotonic()
+        runner.start(sup)
+        time.sleep(1.0)
+        runner.preempt()
+        self.assertTrue(runner.wait(2.0))
+        self.assertEqual(runner.outcome, 'preempted')
+        # at most one firing per holdoff period
+        self.assertLessEqual(trig.fired, int((time.monotonic() - t0) / 0.2) + 1)
+        self.assertGreaterEqual(trig.fired, 3)
+
+    def test_trigger_reaction_is_prompt(self):
+        work = Sleeper(10.0)
+        sm, _, _ = body_machine(work)
+        flag = Flag()
+        handled = threading.Event()
+
+        def cb(ud):
+            handled.set()
+            flag.value = False
+            return 'aborted'
+        sup = Supervisor(sm, [Trigger('t', flag, CBState(cb, outcomes=['aborted']))])
+        runner = Runner('sup')
+        runner.start(sup)
+        work.started.wait(2.0)
+        t0 = time.monotonic()
+        flag.value = True
+        self.assertTrue(handled.wait(1.0))
+        self.assertLess(time.monotonic() - t0, 0.1)
+        runner.wait(2.0)
+
+
+if __name__ == '__main__':
+    unittest.main()
