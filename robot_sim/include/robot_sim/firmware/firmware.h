@@ -35,6 +35,16 @@ class Firmware {
   void setSilent(bool silent) { silent_ = silent; }
   bool silent() const { return silent_; }
 
+  // Fault injection hook called by the simulator's /sim/inject_fault (on the simulator's
+  // thread): kind is "board_silent", "can_bus_off", "serial_garbage", "serial_truncate" or an
+  // emulator-specific kind. Return false when this emulator does not emulate that fault.
+  // Override to add kinds; call Firmware::applyFault for the ones you do not handle.
+  virtual bool applyFault(const std::string& kind, bool active) {
+    if (kind != "board_silent") return false;
+    setSilent(active);
+    return true;
+  }
+
  private:
   std::atomic<bool> silent_{false};
 };

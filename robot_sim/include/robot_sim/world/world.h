@@ -77,6 +77,16 @@ class World {
   virtual std::vector<BeaconMeasurement> takeBeaconMeasurements() = 0;
 
   virtual WorldSnapshot snapshot() const = 0;
+
+  // ---- added (not pure, so existing fakes keep compiling) ----
+  // Whether the robot has a device of this kind ("motor", "encoder", "ranger", "switch",
+  // "servo", "stepper") and name. Emulators check their configured names at start; a read of
+  // an unknown name returns 0 / false / +inf and is counted, never throws.
+  virtual bool has(const std::string& kind, const std::string& name) const {
+    (void)kind;
+    (void)name;
+    return true;
+  }
 };
 
 }  // namespace robot_sim

@@ -1,0 +1,151 @@
+// The simulated world: the table, our differential-drive robot with its motors, encoders,
+// rangers, switches and mechanisms, the opponent and the game elements, advanced by step().
+// Implements the World contract for the firmware emulators plus the simulator's controls
+// (teleport, opponent placement, switches, world-side faults) and ground truth.
+//
+// Thread safety: every public method locks one mutex; step() runs in the simulator's thread.
+// Determinism: step() draws only from dynamics streams, sensor reads from per-sensor streams,
+// so the trajectory depends on the seed and the timed commands only.
+#pragma once
+
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "robot_sim/world/actuators.h"
+#include "robot_sim/world/beacon_model.h"
+#include "robot_sim/world/config.h"
+#include "robot_sim/world/motor_model.h"
+#include "robot_sim/world/opponent.h"
+#include "robot_sim/world/random.h"
+#include "robot_sim/world/table_geometry.h"
+#include "robot_sim/world/world.h"
+
+namespace robot_sim {
+
+struct BodyTruth {
+  Pose2D pose;
+  double v = 0.0;  // forward speed [m/s]
+  double w = 0.0;  // yaw rate [rad/s]
+};
+
+struct MatchProgress {
+  bool started = false;
+  bool over = false;
+  double elapsed = 0.0;    // since the start [s]
+  double remaining = 0.0;  // [s]
+  int score = 0;           // frozen at the end of the match
+};
+
+class SimWorld : public World {
+ public:
+  SimWorld(const WorldConfig& config, unsigned seed);
+
+  // ---- World ----
+  double time() const override;
+  void setMotorCommand(const std::string& motor, double fraction) override;
+  double motorCurrent(const std::string& motor) const override;
+  void setServoTarget(const std::string& servo, double position) override;
+  double servoPosition(const std::string& servo) const override;
+  void setStepperTarget(const std::string& stepper, int64_t steps) override;
+  int64_t stepperPosition(const std::string& stepper) const override;
+  int64_t encoderTicks(const std::string& encoder) const override;
+  double measureRange(const std::string& ranger) override;
+  double measureCompassDeg() override;
+  bool switchClosed(const std::string& name) const override;
+  double batteryVoltage() const override;
+  std::vector<BeaconMeasurement> takeBeaconMeasurements() override;
+  WorldSnapshot snapshot() const override;
+  bool has(const std::string& kind, const std::string& name) const override;
+
+  // ---- the simulator's side ----
+  void step();                  // advances one dt
+  double dt() const { return config_.dt; }
+  const WorldConfig& config() const { return config_; }
+
+  // Motor commands applied exactly at simulated time `at` (a scripted, reproducible drive).
+  void scheduleMotorCommand(double at, const std::string& motor, double fraction);
+
+  void teleport(const Pose2D& pose);
+  void placeOpponent(const Pose2D& pose, bool hold);
+  bool setSwitch(const std::string& name, bool closed);  // manual switches only
+
+  // World-side faults: "beacon_silent" (target: beacon id "0".."2"), "wheel_slip" (target: a
+  // drive motor, magnitude: extra slip fraction, default 0.6), "opponent_blocks" (the opponent
+  // stands in front of our robot, magnitude: gap [m], default 0.1). False + why for others.
+  bool applyFault(const std::string& kind, const std::string& target, bool active, double magnitude,
+                  std::string* why);
+  static bool isWorldFault(const std::string& kind);
+
+  BodyTruth robotTruth() const;
+  BodyTruth opponentTruth() const;
+  MatchProgress match() const;
+  std::vector<GameElement> elements() const;
+  double trueRange(const std::string& ranger) const;  // noiseless, for tests
+  int unknownNameCount() const { return unknown_names_; }
+
+ private:
+  struct Motor {
+    MotorConfig config;
+    MotorState state;
+    double extra_slip = 0.0;
+    double ground_speed = 0.0;  // wheel contact speed [m/s]
+  };
+  struct Encoder {
+    EncoderConfig config;
+    double turns = 0.0;  // wheel revolutions
+  };
+  struct Collector {
+    CollectorConfig config;
+    int held = 0;
+    double eject_cooldown = 0.0;
+  };
+
+  void stepRobot(double dt);
+  void stepElements(double dt);
+  void stepMatch();
+  void applyScheduled();
+  int scoreNow() const;
+  std::vector<Circle> obstacles(bool with_elements) const;
+  Pose2D toMap(double x, double y) const;  // a base_link point on the table
+  template <class M>
+  typename M::mapped_type* find(M& m, const std::string& name) const;
+
+  const WorldConfig config_;
+  const unsigned seed_;
+  mutable std::mutex mutex_;
+  TableGeometry table_;
+  double time_ = 0.0;
+  long steps_ = 0;
+  Pose2D pose_;
+  double v_ = 0.0, w_ = 0.0;
+  std::map<std::string, Motor> motors_;
+  Motor* left_ = nullptr;
+  Motor* right_ = nullptr;
+  std::map<std::string, Encoder> encoders_;
+  std::map<std::string, ServoState> servos_;
+  std::map<std::string, StepperState> steppers_;
+  std::map<std::string, bool> manual_switches_;
+  std::map<std::string, Collector> collectors_;
+  std::vector<GameElement> elements_;
+  std::deque<std::pair<double, std::pair<std::string, double>>> scheduled_;
+  Opponent opponent_;
+  BeaconModel beacons_;
+  double block_gap_ = -1.0;  // opponent_blocks fault active when >= 0
+  // Random streams: dynamics (used by step only) and one per sensor.
+  Rng slip_rng_, opponent_rng_, beacon_rng_;
+  std::map<std::string, Rng> ranger_rng_;
+  Rng compass_rng_;
+  mutable Rng battery_rng_;
+  mutable int unknown_names_ = 0;
+  bool match_started_ = false;
+  double match_start_ = 0.0;
+  int final_score_ = -1;
+  bool contact_ = false;
+  double contact_direction_ = 0.0;  // map frame, towards the obstacle
+};
+
+}  // namespace robot_sim

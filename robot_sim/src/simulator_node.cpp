@@ -1,0 +1,459 @@
+// The simulator: steps the world at a fixed dt in its own thread, paced against the wall clock
+// at ~real_time_factor, publishes /clock, ground truth (/sim/*), rviz markers, and hosts the
+// firmware emulators of every board (~firmware) on top of the world.
+//
+// Parameters (private, /sim/...):
+//   ~seed (int >= 0, default 1)               same seed + same timed commands = same trajectory
+//   ~real_time_factor (>= 0, default 1.0)     0: as fast as the machine goes
+//   ~paused (bool, default false)             start frozen at t = 0 (tests script, then resume)
+//   ~truth_rate (sim Hz, default 50)          /sim/ground_truth, /sim/opponent
+//   ~elements_rate, ~match_rate, ~marker_rate (sim Hz, default 10, 10, 5)
+//   ~clock_max_rate (wall Hz, default 1000)   /clock is published at most this often
+//   ~world  (the world, see config/eurobot2009.sim.yaml)   ~firmware (the emulators)
+//   ~faults (list of {kind, target, start, duration, magnitude}: faults scripted at start)
+//   ~firmware_enabled (bool, default true)    false: the world alone (world tests)
+// Names below are relative to the node's namespace (/ in the robot launch files), so several
+// simulators can run side by side in a test under different namespaces.
+// Topics: /clock, /sim/ground_truth + /sim/opponent (nav_msgs/Odometry), /sim/elements
+//   (robot_sim/GameElements), /sim/match (robot_sim/MatchState), /sim/faults
+//   (robot_sim/ActiveFaults, latched), /sim/markers (visualization_msgs/MarkerArray);
+//   in: /sim/debug/motor_command (robot_sim/DebugMotorCommand, sim-only test input).
+// Services: /sim/inject_fault, /sim/teleport, /sim/place_opponent, /sim/set_switch, /sim/pause
+//   (std_srvs/SetBool).
+#include <robot_sim/ActiveFaults.h>
+#include <robot_sim/DebugMotorCommand.h>
+#include <robot_sim/InjectFault.h>
+#include <robot_sim/PlaceOpponent.h>
+#include <robot_sim/SetSwitch.h>
+#include <robot_sim/Teleport.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <std_srvs/SetBool.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <set>
+#include <thread>
+
+#include "robot_sim/firmware/firmware_host.h"
+#include "robot_sim/world/fault_schedule.h"
+#include "robot_sim/world/ros_world_io.h"
+#include "robot_sim/world/sim_world.h"
+
+namespace robot_sim {
+
+namespace {
+const std::set<std::string> kBoardFaults = {"board_silent", "can_bus_off", "serial_garbage", "serial_truncate"};
+
+// A rate in simulated time: due() once per period, on the step grid.
+struct SimRate {
+  double period = 0.0;
+  double next = 0.0;
+  bool due(double t) {
+    if (period <= 0.0 || t + 1e-9 < next) return false;
+    next = std::max(next + period, t);
+    return true;
+  }
+};
+}  // namespace
+
+class Simulator {
+ public:
+  Simulator(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
+
+  ~Simulator() {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+    if (host_) host_->stopAll();
+  }
+
+  // Reads the parameters and starts everything; false (after one FATAL line) on a bad one.
+  bool start() {
+    try {
+      readParameters();
+      config_ = loadWorldConfig(nh_, pnh_);
+      config_.seed = static_cast<unsigned>(seed_);
+      world_ = std::make_unique<SimWorld>(config_, config_.seed);
+      readScriptedFaults();
+    } catch (const std::exception& e) {
+      ROS_FATAL("%s", e.what());
+      return false;
+    }
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("clock", 10);
+    truth_pub_ = nh_.advertise<nav_msgs::Odometry>("sim/ground_truth", 50);
+    opponent_pub_ = nh_.advertise<nav_msgs::Odometry>("sim/opponent", 50);
+    elements_pub_ = nh_.advertise<GameElements>("sim/elements", 5);
+    match_pub_ = nh_.advertise<robot_sim::MatchState>("sim/match", 5);
+    faults_pub_ = nh_.advertise<ActiveFaults>("sim/faults", 5, true);
+    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("sim/markers", 2);
+    motor_sub_ = nh_.subscribe("sim/debug/motor_command", 100, &Simulator::onMotorCommand, this);
+    services_.push_back(nh_.advertiseService("sim/inject_fault", &Simulator::onInjectFault, this));
+    services_.push_back(nh_.advertiseService("sim/teleport", &Simulator::onTeleport, this));
+    services_.push_back(nh_.advertiseService("sim/place_opponent", &Simulator::onPlaceOpponent, this));
+    services_.push_back(nh_.advertiseService("sim/set_switch", &Simulator::onSetSwitch, this));
+    services_.push_back(nh_.advertiseService("sim/pause", &Simulator::onPause, this));
+    publishClock(0.0);
+    publishFaults();
+
+    // The emulators start after the world exists; none configured is fine (world-only tests).
+    XmlRpc::XmlRpcValue fw;
+    if (firmware_enabled_ && pnh_.getParam("firmware", fw) && fw.getType() == XmlRpc::XmlRpcValue::TypeStruct && fw.size() > 0) {
+      host_ = std::make_unique<FirmwareHost>(nh_, ros::NodeHandle(pnh_, "firmware"), world_.get());
+      if (!host_->startFromParameters()) return false;
+    } else {
+      ROS_INFO("simulator: no firmware emulators %s under %s", firmware_enabled_ ? "configured" : "(disabled)",
+               pnh_.resolveName("firmware").c_str());
+    }
+    running_ = true;
+    thread_ = std::thread([this] { run(); });
+    ROS_INFO("simulator: seed %d, real-time factor %g%s, dt %g s, %zu game elements", seed_, rtf_,
+             paused_ ? " (paused)" : "", config_.dt, config_.table.elements.size());
+    return true;
+  }
+
+ private:
+  void readParameters() {
+    auto fail = [this](const std::string& name, const std::string& what) {
+      throw ConfigError("parameter " + pnh_.resolveName(name) + ": " + what);
+    };
+    auto number = [&](const std::string& name, double def) {
+      XmlRpc::XmlRpcValue v;
+      if (!pnh_.getParam(name, v)) return def;
+      if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<double>(static_cast<int>(v));
+      if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(v);
+      fail(name, "must be a number");
+      return def;
+    };
+    XmlRpc::XmlRpcValue seed;
+    if (pnh_.getParam("seed", seed)) {
+      if (seed.getType() != XmlRpc::XmlRpcValue::TypeInt || static_cast<int>(seed) < 0)
+        fail("seed", "must be an integer >= 0");
+      seed_ = static_cast<int>(seed);
+    }
+    rtf_ = number("real_time_factor", 1.0);
+    if (!(rtf_ >= 0.0) || !std::isfinite(rtf_)) fail("real_time_factor", "must be >= 0 (0: as fast as possible)");
+    XmlRpc::XmlRpcValue paused;
+    if (pnh_.getParam("paused", paused)) {
+      if (paused.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail("paused", "must be true or false");
+      paused_ = static_cast<bool>(paused);
+    }
+    const std::pair<const char*, SimRate*> rates[] = {
+        {"truth_rate", &truth_rate_}, {"elements_rate", &elements_rate_}, {"match_rate", &match_rate_},
+        {"marker_rate", &marker_rate_}};
+    const double defaults[] = {50.0, 10.0, 10.0, 5.0};
+    for (int i = 0; i < 4; ++i) {
+      const double hz = number(rates[i].first, defaults[i]);
+      if (!(hz > 0.0) || hz > 2000.0) fail(rates[i].first, "must be in (0, 2000] Hz");
+      rates[i].second->period = 1.0 / hz;
+    }
+    clock_max_rate_ = number("clock_max_rate", 1000.0);
+    XmlRpc::XmlRpcValue fw_on;
+    if (pnh_.getParam("firmware_enabled", fw_on)) {
+      if (fw_on.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail("firmware_enabled", "must be true or false");
+      firmware_enabled_ = static_cast<bool>(fw_on);
+    }
+    if (!(clock_max_rate_ >= 10.0)) fail("clock_max_rate", "must be >= 10 Hz");
+  }
+
+  void readScriptedFaults() {
+    XmlRpc::XmlRpcValue list;
+    if (!pnh_.getParam("faults", list)) return;
+    const std::string ns = pnh_.resolveName("faults");
+    if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) throw ConfigError("parameter " + ns + ": must be a list");
+    for (int i = 0; i < list.size(); ++i) {
+      const std::string at = ns + "[" + std::to_string(i) + "]";
+      XmlRpc::XmlRpcValue& f = list[i];
+      if (f.getType() != XmlRpc::XmlRpcValue::TypeStruct || !f.hasMember("kind") ||
+          f["kind"].getType() != XmlRpc::XmlRpcValue::TypeString ||
+          (f.hasMember("target") && f["target"].getType() != XmlRpc::XmlRpcValue::TypeString))
+        throw ConfigError("parameter " + at + ": must be {kind, target, start, duration, magnitude}");
+      auto num = [&](const char* k) {
+        if (!f.hasMember(k)) return 0.0;
+        if (f[k].getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<double>(static_cast<int>(f[k]));
+        if (f[k].getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(f[k]);
+        throw ConfigError("parameter " + at + "/" + k + ": must be a number");
+      };
+      FaultEntry e;
+      e.kind = static_cast<std::string>(f["kind"]);
+      e.target = f.hasMember("target") ? static_cast<std::string>(f["target"]) : "";
+      e.start = num("start");
+      e.end = num("duration") > 0.0 ? e.start + num("duration") : 0.0;
+      e.magnitude = num("magnitude");
+      std::string why;
+      if (!validFault(e, /*check_boards=*/false, &why)) throw ConfigError("parameter " + at + ": " + why);
+      faults_.add(e);
+    }
+  }
+
+  // Whether a fault request can be applied (kind known, target existing).
+  bool validFault(const FaultEntry& f, bool check_boards, std::string* why) const {
+    if (SimWorld::isWorldFault(f.kind)) {
+      if (f.kind == "beacon_silent") {
+        const int n = static_cast<int>(config_.table.beacons.size());
+        for (int i = 0; i < n; ++i)
+          if (f.target == std::to_string(i)) return true;
+        *why = "beacon_silent: target must be a beacon id 0.." + std::to_string(n - 1);
+        return false;
+      }
+      if (f.kind == "wheel_slip") {
+        auto it = config_.robot.motors.find(f.target);
+        if (it != config_.robot.motors.end() && !it->second.drive.empty()) return true;
+        *why = "wheel_slip: target must be a drive motor under sim/world/robot/motors";
+        return false;
+      }
+      if (!config_.opponent.enabled) {
+        *why = "opponent_blocks: the opponent is disabled";
+        return false;
+      }
+      return true;
+    }
+    if (!kBoardFaults.count(f.kind)) {
+      *why = "kind '" + f.kind +
+             "' unknown; allowed values: beacon_silent, wheel_slip, opponent_blocks, board_silent, can_bus_off, "
+             "serial_garbage, serial_truncate";
+      return false;
+    }
+    if (check_boards && (!host_ || !host_->find(f.target))) {
+      std::string names;
+      if (host_)
+        for (const auto& kv : host_->all()) names += (names.empty() ? "" : ", ") + kv.first;
+      *why = f.kind + ": target '" + f.target + "' is not a running emulator (running: " +
+             (names.empty() ? "none" : names) + ")";
+      return false;
+    }
+    return true;
+  }
+
+  // Switches a fault on or off; false + why when the target does not emulate it.
+  bool applyFault(const FaultEntry& f, bool active, std::string* why) {
+    if (SimWorld::isWorldFault(f.kind)) return world_->applyFault(f.kind, f.target, active, f.magnitude, why);
+    Firmware* fw = host_ ? host_->find(f.target) : nullptr;
+    if (!fw) {
+      *why = "no emulator named '" + f.target + "'";
+      return false;
+    }
+    if (!fw->applyFault(f.kind, active)) {
+      *why = "emulator '" + f.target + "' does not emulate " + f.kind;
+      return false;
+    }
+    return true;
+  }
+
+  // ------------------------------------------------------------ the stepping thread
+  void run() {
+    using Clock = std::chrono::steady_clock;
+    auto anchor_wall = Clock::now();
+    double anchor_sim = world_->time();
+    auto last_clock = Clock::now() - std::chrono::hours(1);
+    auto last_report = Clock::now();
+    double report_sim = anchor_sim;
+    const auto clock_gap = std::chrono::duration<double>(1.0 / clock_max_rate_);
+    while (running_ && ros::ok()) {
+      if (paused_) {
+        publishClock(world_->time());
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        anchor_wall = Clock::now();
+        anchor_sim = world_->time();
+        continue;
+      }
+      world_->step();
+      const double t = world_->time();
+      bool faults_changed = false;
+      for (const FaultTransition& tr : faults_.update(t)) {
+        std::string why;
+        if (!applyFault(tr.fault, tr.activate, &why))
+          ROS_ERROR("simulator: scripted fault %s/%s at t=%.3f: %s", tr.fault.kind.c_str(), tr.fault.target.c_str(),
+                    t, why.c_str());
+        else
+          ROS_INFO("simulator: fault %s/%s %s at t=%.3f", tr.fault.kind.c_str(), tr.fault.target.c_str(),
+                   tr.activate ? "on" : "off", t);
+        faults_changed = true;
+      }
+      if (faults_changed) publishFaults();
+      publishTruth(t);
+
+      const auto now = Clock::now();
+      if (now - last_clock >= clock_gap) {
+        publishClock(t);
+        last_clock = now;
+      }
+      if (now - last_report > std::chrono::seconds(10)) {
+        const double achieved = (t - report_sim) / std::chrono::duration<double>(now - last_report).count();
+        if (rtf_ > 0.0 && achieved < 0.9 * rtf_)
+          ROS_WARN("simulator: achieved real-time factor %.2f of %.2f requested", achieved, rtf_);
+        last_report = now;
+        report_sim = t;
+      }
+      if (rtf_ > 0.0) {
+        const auto target = anchor_wall + std::chrono::duration_cast<Clock::duration>(
+                                              std::chrono::duration<double>((t - anchor_sim) / rtf_));
+        if (target > now + std::chrono::microseconds(200)) {
+          std::this_thread::sleep_until(target);
+        } else if (now - target > std::chrono::milliseconds(200)) {
+          // Cannot keep up: run on from here instead of racing to catch up.
+          anchor_wall = now;
+          anchor_sim = t;
+        }
+      }
+    }
+  }
+
+  void publishClock(double t) {
+    rosgraph_msgs::Clock c;
+    c.clock = ros::Time(t);
+    if (ros::Time::isSimTime()) ros::Time::setNow(c.clock);  // our own emulators see it at once
+    clock_pub_.publish(c);
+  }
+
+  void publishTruth(double t) {
+    const ros::Time stamp(t);
+    if (truth_rate_.due(t)) {
+      truth_pub_.publish(toOdometry(world_->robotTruth(), stamp, "base_link"));
+      if (config_.opponent.enabled) opponent_pub_.publish(toOdometry(world_->opponentTruth(), stamp, "opponent"));
+    }
+    if (elements_rate_.due(t)) elements_pub_.publish(toElementsMsg(world_->elements(), stamp));
+    if (match_rate_.due(t)) match_pub_.publish(toMatchMsg(world_->match(), config_.match.year, stamp));
+    if (marker_rate_.due(t) && markers_pub_.getNumSubscribers() > 0)
+      markers_pub_.publish(worldMarkers(config_, world_->snapshot(), stamp));
+  }
+
+  void publishFaults() {
+    ActiveFaults m;
+    m.header.stamp = ros::Time(world_->time());
+    for (const auto& f : faults_.active()) {
+      m.kinds.push_back(f.kind);
+      m.targets.push_back(f.target);
+      m.ends.push_back(f.open() ? 0.0 : f.end);
+    }
+    faults_pub_.publish(m);
+  }
+
+  // ------------------------------------------------------------ inputs
+  void onMotorCommand(const DebugMotorCommand& m) {
+    if (m.motors.size() != m.fractions.size()) {
+      ROS_WARN_THROTTLE(5, "simulator: /sim/debug/motor_command with %zu motors and %zu fractions dropped",
+                        m.motors.size(), m.fractions.size());
+      return;
+    }
+    for (std::size_t i = 0; i < m.motors.size(); ++i) {
+      if (!world_->has("motor", m.motors[i])) {
+        ROS_WARN_THROTTLE(5, "simulator: /sim/debug/motor_command: no motor named '%s'", m.motors[i].c_str());
+        continue;
+      }
+      if (m.at > world_->time()) world_->scheduleMotorCommand(m.at, m.motors[i], m.fractions[i]);
+      else world_->setMotorCommand(m.motors[i], m.fractions[i]);
+    }
+  }
+
+  bool onInjectFault(InjectFault::Request& req, InjectFault::Response& res) {
+    FaultEntry f;
+    f.kind = req.kind;
+    f.target = req.target;
+    f.magnitude = req.magnitude;
+    if (req.clear) {
+      res.ok = faults_.clear(f.kind, f.target);
+      res.message = res.ok ? "cleared" : "no such fault scheduled or active";
+      return true;
+    }
+    if (!std::isfinite(req.start) || !std::isfinite(req.duration) || req.duration < 0.0) {
+      res.ok = false;
+      res.message = "start must be finite and duration >= 0";
+      return true;
+    }
+    std::string why;
+    if (!validFault(f, true, &why)) {
+      res.ok = false;
+      res.message = why;
+      return true;
+    }
+    const double now = world_->time();
+    f.start = std::max(req.start, now);
+    f.end = req.duration > 0.0 ? f.start + req.duration : 0.0;
+    if (req.start <= now) {
+      // Now: apply here so the caller learns at once whether the target emulates it.
+      if (!applyFault(f, true, &why)) {
+        res.ok = false;
+        res.message = why;
+        return true;
+      }
+      f.active = true;
+    }
+    faults_.add(f);
+    publishFaults();
+    res.ok = true;
+    res.message = f.active ? "active" : "scheduled";
+    return true;
+  }
+
+  bool onTable(double x, double y) const {
+    return x >= 0.0 && x <= config_.table.length && y >= 0.0 && y <= config_.table.width;
+  }
+
+  bool onTeleport(Teleport::Request& req, Teleport::Response& res) {
+    if (!onTable(req.pose.x, req.pose.y) || !std::isfinite(req.pose.theta)) {
+      res.ok = false;
+      res.message = "pose off the table";
+      return true;
+    }
+    world_->teleport(Pose2D{req.pose.x, req.pose.y, req.pose.theta});
+    res.ok = true;
+    return true;
+  }
+
+  bool onPlaceOpponent(PlaceOpponent::Request& req, PlaceOpponent::Response& res) {
+    if (!config_.opponent.enabled || !onTable(req.pose.x, req.pose.y) || !std::isfinite(req.pose.theta)) {
+      res.ok = false;
+      res.message = config_.opponent.enabled ? "pose off the table" : "the opponent is disabled";
+      return true;
+    }
+    world_->placeOpponent(Pose2D{req.pose.x, req.pose.y, req.pose.theta}, req.hold);
+    res.ok = true;
+    return true;
+  }
+
+  bool onSetSwitch(SetSwitch::Request& req, SetSwitch::Response& res) {
+    res.ok = world_->setSwitch(req.name, req.closed);
+    if (!res.ok) res.message = "'" + req.name + "' is not a manual switch under sim/world/robot/switches";
+    return true;
+  }
+
+  bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+    paused_ = req.data;
+    res.success = true;
+    res.message = req.data ? "paused" : "running";
+    return true;
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  WorldConfig config_;
+  std::unique_ptr<SimWorld> world_;
+  std::unique_ptr<FirmwareHost> host_;
+  FaultSchedule faults_;
+  int seed_ = 1;
+  double rtf_ = 1.0;
+  double clock_max_rate_ = 1000.0;
+  bool firmware_enabled_ = true;
+  std::atomic<bool> paused_{false};
+  std::atomic<bool> running_{false};
+  SimRate truth_rate_, elements_rate_, match_rate_, marker_rate_;
+  std::thread thread_;
+  ros::Publisher clock_pub_, truth_pub_, opponent_pub_, elements_pub_, match_pub_, faults_pub_, markers_pub_;
+  ros::Subscriber motor_sub_;
+  std::vector<ros::ServiceServer> services_;
+};
+
+}  // namespace robot_sim
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "simulator");
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+  robot_sim::Simulator sim(nh, pnh);
+  if (!sim.start()) return 1;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ros::waitForShutdown();
+  return 0;
+}

@@ -1,0 +1,484 @@
+#include "robot_sim/world/sim_world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+#include "robot_sim/world/battery_model.h"
+#include "robot_sim/world/compass_model.h"
+#include "robot_sim/world/diff_drive.h"
+#include "robot_sim/world/ranger_model.h"
+
+namespace robot_sim {
+
+namespace {
+constexpr double kContactMargin = 0.003;  // [m] a bumper closes within this of an obstacle
+constexpr double kTwoPi = 2.0 * M_PI;
+}  // namespace
+
+SimWorld::SimWorld(const WorldConfig& config, unsigned seed)
+    : config_(config),
+      seed_(seed),
+      table_(config.table.length, config.table.width),
+      pose_(config.robot.start),
+      elements_(config.table.elements),
+      opponent_(config.opponent, table_),
+      beacons_(config.beacons, config.table.beacons),
+      slip_rng_(seed, "slip"),
+      opponent_rng_(seed, "opponent"),
+      beacon_rng_(seed, "beacons"),
+      compass_rng_(seed, "compass"),
+      battery_rng_(seed, "battery") {
+  for (const auto& [name, c] : config.robot.motors) {
+    Motor& m = motors_[name];
+    m.config = c;
+    if (c.drive == "left") left_ = &m;
+    if (c.drive == "right") right_ = &m;
+  }
+  for (const auto& [name, c] : config.robot.encoders) encoders_[name].config = c;
+  for (const auto& [name, c] : config.robot.servos) servos_[name] = ServoState{c.initial, c.initial};
+  for (const auto& [name, c] : config.robot.steppers) steppers_[name] = StepperState{c.initial, c.initial, 0.0};
+  for (const auto& [name, c] : config.robot.switches)
+    if (c.type == "manual") manual_switches_[name] = c.initially_closed;
+  for (const auto& [name, c] : config.robot.collectors) collectors_[name].config = c;
+  for (const auto& [name, c] : config.robot.rangers) ranger_rng_.emplace(name, Rng(seed, "ranger/" + name));
+  if (!left_ || !right_) throw ConfigError("the robot needs a left and a right drive motor");
+  match_started_ = config.match.start_switch.empty();
+}
+
+template <class M>
+typename M::mapped_type* SimWorld::find(M& m, const std::string& name) const {
+  auto it = m.find(name);
+  if (it == m.end()) {
+    ++unknown_names_;
+    return nullptr;
+  }
+  return &it->second;
+}
+
+// ---------------------------------------------------------------- World: actuators
+double SimWorld::time() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return time_;
+}
+
+void SimWorld::setMotorCommand(const std::string& motor, double fraction) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (Motor* m = find(motors_, motor)) m->state.command = std::isfinite(fraction) ? std::clamp(fraction, -1.0, 1.0) : 0.0;
+}
+
+double SimWorld::motorCurrent(const std::string& motor) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto* m = find(const_cast<std::map<std::string, Motor>&>(motors_), motor);
+  return m ? m->state.current : 0.0;
+}
+
+void SimWorld::setServoTarget(const std::string& servo, double position) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (ServoState* s = find(servos_, servo))
+    if (std::isfinite(position)) s->target = position;
+}
+
+double SimWorld::servoPosition(const std::string& servo) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto* s = find(const_cast<std::map<std::string, ServoState>&>(servos_), servo);
+  return s ? s->position : 0.0;
+}
+
+void SimWorld::setStepperTarget(const std::string& stepper, int64_t steps) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (StepperState* s = find(steppers_, stepper)) s->target = steps;
+}
+
+int64_t SimWorld::stepperPosition(const std::string& stepper) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto* s = find(const_cast<std::map<std::string, StepperState>&>(steppers_), stepper);
+  return s ? s->position : 0;
+}
+
+// ---------------------------------------------------------------- World: sensors
+int64_t SimWorld::encoderTicks(const std::string& encoder) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto* e = find(const_cast<std::map<std::string, Encoder>&>(encoders_), encoder);
+  if (!e) return 0;
+  return static_cast<int64_t>(std::floor(e->turns * e->config.ticks_per_rev)) * e->config.sign;
+}
+
+double SimWorld::measureRange(const std::string& ranger) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = config_.robot.rangers.find(ranger);
+  if (it == config_.robot.rangers.end()) {
+    ++unknown_names_;
+    return std::numeric_limits<double>::infinity();
+  }
+  const double r = robot_sim::trueRange(it->second, pose_, table_, obstacles(it->second.sees_elements));
+  return noisyRange(it->second, r, ranger_rng_.at(ranger));
+}
+
+double SimWorld::trueRange(const std::string& ranger) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = config_.robot.rangers.find(ranger);
+  if (it == config_.robot.rangers.end()) return std::numeric_limits<double>::infinity();
+  return robot_sim::trueRange(it->second, pose_, table_, obstacles(it->second.sees_elements));
+}
+
+double SimWorld::measureCompassDeg() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return noisyCompassDeg(config_.compass, pose_.theta, compass_rng_);
+}
+
+bool SimWorld::switchClosed(const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = config_.robot.switches.find(name);
+  if (it == config_.robot.switches.end()) {
+    ++unknown_names_;
+    return false;
+  }
+  const SwitchConfig& s = it->second;
+  if (s.type == "manual") return manual_switches_.at(name);
+  if (s.type == "bumper") {
+    if (!contact_) return false;
+    const double rel = normalizeAngle(contact_direction_ - pose_.theta - s.angle);
+    return std::abs(rel) <= 0.5 * s.span;
+  }
+  if (s.type == "limit") {
+    double pos;
+    auto st = steppers_.find(s.actuator);
+    if (st != steppers_.end()) pos = static_cast<double>(st->second.position);
+    else pos = servos_.at(s.actuator).position;
+    return s.direction < 0 ? pos <= s.at : pos >= s.at;
+  }
+  // element: something under the sensor
+  const Pose2D p = toMap(s.x, s.y);
+  for (const auto& e : elements_)
+    if (!e.carried && std::hypot(e.pose.x - p.x, e.pose.y - p.y) <= s.radius) return true;
+  return false;
+}
+
+double SimWorld::batteryVoltage() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  double current = 0.0;
+  for (const auto& kv : motors_) current += std::abs(kv.second.state.current);
+  return robot_sim::batteryVoltage(config_.battery, time_, current, battery_rng_);
+}
+
+std::vector<BeaconMeasurement> SimWorld::takeBeaconMeasurements() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return beacons_.take();
+}
+
+WorldSnapshot SimWorld::snapshot() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  WorldSnapshot s;
+  s.time = time_;
+  s.robot = pose_;
+  s.robot_radius = config_.robot.radius;
+  s.opponent = opponent_.pose();
+  s.opponent_radius = config_.opponent.enabled ? opponent_.radius() : 0.0;
+  s.elements = elements_;
+  s.table_length = config_.table.length;
+  s.table_width = config_.table.width;
+  return s;
+}
+
+bool SimWorld::has(const std::string& kind, const std::string& name) const {
+  const auto& r = config_.robot;
+  if (kind == "motor") return r.motors.count(name) > 0;
+  if (kind == "encoder") return r.encoders.count(name) > 0;
+  if (kind == "ranger") return r.rangers.count(name) > 0;
+  if (kind == "switch") return r.switches.count(name) > 0;
+  if (kind == "servo") return r.servos.count(name) > 0;
+  if (kind == "stepper") return r.steppers.count(name) > 0;
+  return false;
+}
+
+// ---------------------------------------------------------------- stepping
+std::vector<Circle> SimWorld::obstacles(bool with_elements) const {
+  std::vector<Circle> out;
+  if (config_.opponent.enabled) out.push_back(opponent_.outline());
+  if (with_elements)
+    for (const auto& e : elements_)
+      if (!e.carried) out.push_back(Circle{e.pose.x, e.pose.y, e.radius});
+  return out;
+}
+
+Pose2D SimWorld::toMap(double x, double y) const {
+  const double c = std::cos(pose_.theta), s = std::sin(pose_.theta);
+  return Pose2D{pose_.x + c * x - s * y, pose_.y + s * x + c * y, pose_.theta};
+}
+
+void SimWorld::step() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double dt = config_.dt;
+  ++steps_;
+  time_ = static_cast<double>(steps_) * dt;  // no drift from summing dt
+  applyScheduled();
+  for (auto& kv : servos_) stepServo(config_.robot.servos.at(kv.first), kv.second, dt);
+  for (auto& kv : steppers_) stepStepper(config_.robot.steppers.at(kv.first), kv.second, dt);
+  stepRobot(dt);
+  if (config_.opponent.enabled) {
+    if (block_gap_ >= 0.0) {
+      // The opponent keeps standing in our way, wherever we turn.
+      const double d = config_.robot.radius + opponent_.radius() + block_gap_;
+      Pose2D p{pose_.x + d * std::cos(pose_.theta), pose_.y + d * std::sin(pose_.theta), pose_.theta + M_PI};
+      const double r = opponent_.radius();
+      p.x = std::clamp(p.x, r, config_.table.length - r);
+      p.y = std::clamp(p.y, r, config_.table.width - r);
+      opponent_.place(p, true);
+    }
+    opponent_.step(dt, Circle{pose_.x, pose_.y, config_.robot.radius}, opponent_rng_);
+  }
+  stepElements(dt);
+  beacons_.step(time_, pose_, beacon_rng_);
+  stepMatch();
+}
+
+void SimWorld::applyScheduled() {
+  while (!scheduled_.empty() && scheduled_.front().first <= time_ + 1e-9) {
+    auto it = motors_.find(scheduled_.front().second.first);
+    if (it != motors_.end()) it->second.state.command = std::clamp(scheduled_.front().second.second, -1.0, 1.0);
+    scheduled_.pop_front();
+  }
+}
+
+void SimWorld::stepRobot(double dt) {
+  const RobotConfig& rc = config_.robot;
+  for (auto& kv : motors_) stepMotor(kv.second.config, kv.second.state, dt);
+  // Each drive wheel's contact moves at its surface speed reduced by the slip.
+  for (Motor* m : {left_, right_}) {
+    const double surface = m->state.speed * rc.wheel_radius;
+    const double accel = m->state.accel * rc.wheel_radius;
+    const double slip = slipFraction(rc.slip, surface, accel, m->extra_slip, slip_rng_);
+    m->ground_speed = surface * (1.0 - slip);
+  }
+  double v, w;
+  wheelsToTwist(left_->ground_speed, right_->ground_speed, rc.wheel_base, v, w);
+  Pose2D next = integrateTwist(pose_, v, w, dt);
+
+  // Collisions: a move that pushes further into a border or the opponent does not happen;
+  // the drive wheels stall (the robot stops) and the bumper facing the obstacle closes.
+  double dir_border = 0.0;
+  const double border_now = table_.borderClearance(pose_.x, pose_.y, rc.radius, &dir_border);
+  const double border_next = table_.borderClearance(next.x, next.y, rc.radius);
+  double opp_now = std::numeric_limits<double>::infinity(), opp_next = opp_now;
+  const Circle opp = opponent_.outline();
+  if (config_.opponent.enabled) {
+    opp_now = circleClearance(Circle{pose_.x, pose_.y, rc.radius}, opp);
+    opp_next = circleClearance(Circle{next.x, next.y, rc.radius}, opp);
+  }
+  const bool blocked = (border_next < 0.0 && border_next < border_now - 1e-12) ||
+                       (opp_next < 0.0 && opp_next < opp_now - 1e-12);
+  if (blocked) {
+    for (Motor* m : {left_, right_}) {
+      stepMotor(m->config, m->state, dt, true);
+      m->ground_speed = 0.0;
+    }
+    v = w = 0.0;
+    next = pose_;
+  }
+  // Encoders: driven ones count their wheel's turning (slip included), measuring wheels the
+  // ground under them.
+  for (auto& kv : encoders_) {
+    Encoder& e = kv.second;
+    if (e.config.driven()) {
+      e.turns += motors_.at(e.config.motor).state.speed * dt / kTwoPi;
+    } else {
+      e.turns += (v - w * e.config.y) * dt / (kTwoPi * e.config.radius);
+    }
+  }
+  pose_ = next;
+  v_ = v;
+  w_ = w;
+  // Contact for the bumpers: the nearest obstacle within the margin.
+  const double border_c = table_.borderClearance(pose_.x, pose_.y, rc.radius, &dir_border);
+  contact_ = false;
+  if (border_c <= kContactMargin) {
+    contact_ = true;
+    contact_direction_ = dir_border;
+  }
+  if (config_.opponent.enabled) {
+    const double oc = circleClearance(Circle{pose_.x, pose_.y, rc.radius}, opponent_.outline());
+    if (oc <= kContactMargin && (!contact_ || oc < border_c)) {
+      contact_ = true;
+      contact_direction_ = std::atan2(opp.y - pose_.y, opp.x - pose_.x);
+    }
+  }
+}
+
+void SimWorld::stepElements(double dt) {
+  // Collectors swallow matching elements at their mouth while their motor runs forward and
+  // spit one out ahead every 0.25 s while it runs backward.
+  for (auto& kv : collectors_) {
+    Collector& c = kv.second;
+    const double cmd = motors_.at(c.config.motor).state.command;
+    const Pose2D mouth = toMap(c.config.x, c.config.y);
+    c.eject_cooldown = std::max(0.0, c.eject_cooldown - dt);
+    for (auto& e : elements_) {
+      const bool kind_ok =
+          c.config.kinds.empty() || std::find(c.config.kinds.begin(), c.config.kinds.end(), e.kind) != c.config.kinds.end();
+      if (cmd > 0.1 && !e.carried && kind_ok && c.held < c.config.capacity &&
+          std::hypot(e.pose.x - mouth.x, e.pose.y - mouth.y) <= c.config.radius) {
+        e.carried = true;
+        ++c.held;
+      } else if (cmd < -0.1 && e.carried && c.held > 0 && c.eject_cooldown <= 0.0 && kind_ok) {
+        e.carried = false;
+        e.pose = toMap(c.config.x + c.config.radius + e.radius, c.config.y);
+        --c.held;
+        c.eject_cooldown = 0.25;
+      }
+    }
+  }
+  // Carried elements ride along; loose ones are pushed by both robots and stay on the table.
+  const Circle ours{pose_.x, pose_.y, config_.robot.radius};
+  for (auto& e : elements_) {
+    if (e.carried) {
+      e.pose.x = pose_.x;
+      e.pose.y = pose_.y;
+      continue;
+    }
+    const Circle pushers[2] = {ours, opponent_.outline()};
+    for (int i = 0; i < (config_.opponent.enabled ? 2 : 1); ++i) {
+      const Circle& pusher = pushers[i];
+      const double dx = e.pose.x - pusher.x, dy = e.pose.y - pusher.y;
+      const double d = std::hypot(dx, dy);
+      const double need = pusher.r + e.radius;
+      if (d < need) {
+        const double ux = d > 1e-9 ? dx / d : 1.0, uy = d > 1e-9 ? dy / d : 0.0;
+        e.pose.x = pusher.x + ux * need;
+        e.pose.y = pusher.y + uy * need;
+      }
+    }
+    e.pose.x = std::clamp(e.pose.x, e.radius, config_.table.length - e.radius);
+    e.pose.y = std::clamp(e.pose.y, e.radius, config_.table.width - e.radius);
+  }
+}
+
+int SimWorld::scoreNow() const {
+  int score = 0;
+  for (const auto& e : elements_) {
+    if (e.carried) continue;
+    for (const Zone& z : config_.table.score_zones) {
+      const bool kind_ok = z.kinds.empty() || std::find(z.kinds.begin(), z.kinds.end(), e.kind) != z.kinds.end();
+      if (kind_ok && z.contains(e.pose.x, e.pose.y)) {
+        score += z.points;
+        break;
+      }
+    }
+  }
+  return score;
+}
+
+void SimWorld::stepMatch() {
+  if (!match_started_) {
+    // The start cord: the match starts when the switch opens.
+    if (!manual_switches_.at(config_.match.start_switch)) {
+      match_started_ = true;
+      match_start_ = time_;
+    }
+    return;
+  }
+  if (final_score_ < 0 && time_ - match_start_ >= config_.match.duration) final_score_ = scoreNow();
+}
+
+// ---------------------------------------------------------------- controls and truth
+void SimWorld::scheduleMotorCommand(double at, const std::string& motor, double fraction) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!motors_.count(motor)) {
+    ++unknown_names_;
+    return;
+  }
+  const auto entry = std::make_pair(at, std::make_pair(motor, std::isfinite(fraction) ? fraction : 0.0));
+  // Keep the queue sorted by time, stable for equal times (the order they were given).
+  auto pos = std::upper_bound(scheduled_.begin(), scheduled_.end(), at,
+                              [](double t, const auto& item) { return t < item.first; });
+  scheduled_.insert(pos, entry);
+}
+
+void SimWorld::teleport(const Pose2D& pose) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pose_ = pose;
+  pose_.theta = normalizeAngle(pose.theta);
+  v_ = w_ = 0.0;
+  for (auto& kv : motors_) kv.second.state.speed = 0.0;
+}
+
+void SimWorld::placeOpponent(const Pose2D& pose, bool hold) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  opponent_.place(pose, hold);
+}
+
+bool SimWorld::setSwitch(const std::string& name, bool closed) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = manual_switches_.find(name);
+  if (it == manual_switches_.end()) return false;
+  it->second = closed;
+  return true;
+}
+
+bool SimWorld::isWorldFault(const std::string& kind) {
+  return kind == "beacon_silent" || kind == "wheel_slip" || kind == "opponent_blocks";
+}
+
+bool SimWorld::applyFault(const std::string& kind, const std::string& target, bool active, double magnitude,
+                          std::string* why) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (kind == "beacon_silent") {
+    char* end = nullptr;
+    const long id = std::strtol(target.c_str(), &end, 10);
+    if (target.empty() || *end || id < 0 || id >= static_cast<long>(beacons_.count())) {
+      if (why) *why = "beacon_silent: target must be a beacon id 0.." + std::to_string(beacons_.count() - 1);
+      return false;
+    }
+    beacons_.setSilent(static_cast<int>(id), active);
+    return true;
+  }
+  if (kind == "wheel_slip") {
+    auto it = motors_.find(target);
+    if (it == motors_.end() || it->second.config.drive.empty()) {
+      if (why) *why = "wheel_slip: target must be a drive motor (" + config_.robot.motors.begin()->first + ", ...)";
+      return false;
+    }
+    it->second.extra_slip = active ? (magnitude > 0.0 ? std::min(magnitude, 1.0) : 0.6) : 0.0;
+    return true;
+  }
+  if (kind == "opponent_blocks") {
+    if (!config_.opponent.enabled) {
+      if (why) *why = "opponent_blocks: the opponent is disabled (sim/world/opponent/enabled)";
+      return false;
+    }
+    block_gap_ = active ? (magnitude > 0.0 ? magnitude : 0.1) : -1.0;
+    if (!active) opponent_.place(opponent_.pose(), false);
+    return true;
+  }
+  if (why) *why = "not a world fault: " + kind;
+  return false;
+}
+
+BodyTruth SimWorld::robotTruth() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return BodyTruth{pose_, v_, w_};
+}
+
+BodyTruth SimWorld::opponentTruth() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return BodyTruth{opponent_.pose(), opponent_.v(), opponent_.w()};
+}
+
+MatchProgress SimWorld::match() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  MatchProgress m;
+  m.started = match_started_;
+  m.elapsed = match_started_ ? std::min(time_ - match_start_, config_.match.duration) : 0.0;
+  m.remaining = config_.match.duration - m.elapsed;
+  m.over = final_score_ >= 0;
+  m.score = m.over ? final_score_ : scoreNow();
+  return m;
+}
+
+std::vector<GameElement> SimWorld::elements() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return elements_;
+}
+
+}  // namespace robot_sim
