@@ -23,3 +23,16 @@ class BrainTestDrive(MachineStrategy):
             sm.add('LEG_%d' % leg, ActionState(LONG_ACTION, TestAction, goal=TestGoal(goal=leg), server_wait_timeout=5.0),
                    transitions={'succeeded': nxt, 'aborted': 'aborted', 'preempted': 'preempted'})
         return sm
+
+
+@register
+class BrainBenchIdle(MachineStrategy):
+    """For scripts/bench/brain.sh: a long preemptible state under the configured triggers."""
+    name = 'brain_bench_idle'
+    description = 'bench: one long preemptible state, triggers around it'
+
+    def build(self):
+        from smart_brain.statemachine import WaitState
+        sm = StateMachine(outcomes=['succeeded', 'aborted', 'preempted'])
+        sm.add('IDLE', WaitState(1e6), transitions={'succeeded': 'succeeded', 'preempted': 'preempted'})
+        return sm
