@@ -1,0 +1,51 @@
+// Range finders (SRF02 sonars, infrared) as a checking input, measured against the table
+// borders and fixed obstacles of the table model. For each ranger with a new reading r:
+//   expected e = ray cast from the ranger's pose (mounting pose on the robot composed with the
+//   particle) to the first edge, capped at max_range;
+//   reading at (or beyond) max_range: p = e >= max_range ? 1 - short : miss_probability;
+//   otherwise p = (1 - short) * N(r - e; std) + short / max_range
+// (short: something not in the map in front of it, such as the opponent or a game element).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hal_nodes/mcl/checks/table_model.h"
+#include "hal_nodes/mcl/input.h"
+
+namespace hal_nodes::mcl {
+
+struct RangerConfig {
+  std::string name;
+  double x = 0.0, y = 0.0, yaw = 0.0;  // mounting pose in base_link [m, rad]
+  double min_range = 0.03, max_range = 2.0;  // [m]
+  double std = 0.02;                         // [m]
+  double short_probability = 0.2;
+  double miss_probability = 0.2;
+  double min_interval = 0.05;                // [s] between applied readings of one ranger
+};
+
+class Rangers : public CheckingInput {
+ public:
+  Rangers(const std::vector<RangerConfig>& rangers, double reliability, std::shared_ptr<const TableModel> table);
+  std::size_t index(const std::string& name) const;  // throws std::out_of_range
+  bool addRange(std::size_t ranger, double stamp, double range);  // false: rejected
+  bool ready(const StepContext&) const override;
+  void check(ParticleSet& set, const StepContext& ctx) override;
+  void clear() override;
+  // The likelihood of one reading from one pose (exposed for tests).
+  double likelihood(std::size_t ranger, const Pose2& pose, double range) const;
+
+ private:
+  struct State {
+    RangerConfig cfg;
+    bool pending = false;
+    double range = 0.0;
+    double last_applied = -1e300;
+  };
+  std::vector<State> rangers_;
+  std::shared_ptr<const TableModel> table_;
+};
+
+}  // namespace hal_nodes::mcl

@@ -1,0 +1,126 @@
+// The localization filter: Monte Carlo Localization on mrpt::bayes::CParticleFilter.
+//
+// Inputs register themselves (addAdvancing / addChecking); each step MRPT's executeOn() runs:
+//   predict/update   every advancing input moves the particles (with motion noise), every
+//                    checking input with a new measurement reweights them, the table model
+//                    always (impossible poses weigh 0);
+//   normalize, ESS   resampling (the selected MRPT scheme) only when ESS < ess_threshold;
+//   resampling       the new count follows the KLD bound when adaptive; while the filter is
+//                    lost, part of the set is replaced by poses proposed by the sensors.
+// Entirely lost: globalLocalization() spreads the particles uniformly over the free table.
+// Lost detection (MRPT has none): augmented MCL's short- and long-term averages of the
+// measurement likelihood (w_fast, w_slow); when w_fast / w_slow falls below lost_ratio
+// (likelihood collapse: kidnapped, or a wrong start) or every particle became impossible, the
+// filter declares itself lost and resets from the sensors' proposals (sensor resetting: beacon
+// trilateration), falling back to a uniform spread.
+#pragma once
+
+#include <mrpt/bayes/CParticleFilter.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "hal_nodes/mcl/checks/table_model.h"
+#include "hal_nodes/mcl/input.h"
+#include "hal_nodes/mcl/kld.h"
+#include "hal_nodes/mcl/particle_set.h"
+
+namespace hal_nodes::mcl {
+
+struct FilterConfig {
+  std::size_t max_particles = 2000;
+  std::size_t min_particles = 200;
+  bool adaptive = false;  // KLD count between min and max
+  KldParams kld;
+  mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm resampling =
+      mrpt::bayes::CParticleFilter::prSystematic;
+  double ess_threshold = 0.5;  // resample when ESS/N < this
+  double alpha_slow = 0.01;    // likelihood averages (per monitored measurement)
+  double alpha_fast = 0.2;
+  double lost_ratio = 0.05;    // w_fast / w_slow below this: lost
+  std::size_t warmup = 30;     // monitored measurements before the collapse test is armed
+  double reset_fraction = 1.0; // share of the set replaced by sensor proposals when lost
+  double found_std = 0.05;     // [m] cloud spread below which a reset counts as converged
+  // After a reset the heading is only known from motion: for recovery_time, every resampling
+  // roughens the set (jitter) so the cloud keeps enough heading diversity to find the right one.
+  double recovery_time = 2.0;  // [s]
+  double roughen_xy = 0.003;   // [m]
+  double roughen_theta = 0.02; // [rad]
+  double quality_tolerance = 0.05;  // [m] "right" means within this of the truth
+  uint64_t seed = 1;
+};
+
+// Parse a resampling scheme name: multinomial, residual, stratified, systematic.
+bool parseResampling(const std::string& name, mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm* out);
+
+struct Estimate {
+  Pose2 pose;
+  std::array<double, 9> cov{};   // x, y, theta (row-major)
+  double probability = 0.0;      // that the estimate is within quality_tolerance of the truth
+  bool lost = true;
+  std::size_t particles = 0;
+  double ess = 0.0;              // effective sample size (particles)
+};
+
+class Filter : private ParticleSet::Hooks {
+ public:
+  Filter(const FilterConfig& cfg, std::shared_ptr<TableModel> table);
+  Filter(const Filter&) = delete;
+  Filter& operator=(const Filter&) = delete;
+
+  void addAdvancing(std::shared_ptr<AdvancingInput> input);
+  void addChecking(std::shared_ptr<CheckingInput> input);
+  // An input that can propose poses when lost (also registered as checking input if it is one).
+  void addSampler(std::shared_ptr<PoseSampler> sampler);
+
+  // A Gaussian cloud around a known pose (start position, rviz /initialpose).
+  void setPose(const Pose2& pose, double std_xy, double std_theta);
+  // A cloud uniform within +-half_xy, +-half_theta of a pose.
+  void setPoseUniform(const Pose2& pose, double half_xy, double half_theta);
+  // Entirely lost: uniform over the free table, every heading; recovery from the sensors.
+  void globalLocalization();
+
+  // One filter step at time `now` [s]: applies what the inputs hold, updates the estimate.
+  void update(double now);
+
+  const Estimate& estimate() const { return estimate_; }
+  const ParticleSet& particles() const { return set_; }
+  const FilterConfig& config() const { return cfg_; }
+  const TableModel& table() const { return *table_; }
+  unsigned long resamplings() const { return resamplings_; }
+  unsigned long resets() const { return resets_; }
+  double wSlow() const { return w_slow_; }
+  double wFast() const { return w_fast_; }
+
+ private:
+  // ParticleSet::Hooks
+  void predictAndUpdate(ParticleSet& set) override;
+  std::size_t resampledCount(const ParticleSet& set, const std::vector<size_t>& picked) override;
+  double uniform() override { return rng_.uniform(); }
+  void afterResampling(ParticleSet& set) override;
+
+  bool resetFromSensorsIfPossible();
+  void computeEstimate();
+  void clearInputs();
+
+  FilterConfig cfg_;
+  std::shared_ptr<TableModel> table_;
+  ParticleSet set_;
+  mrpt::bayes::CParticleFilter pf_;
+  Rng rng_;
+  BinCounter bins_;
+  std::vector<std::shared_ptr<AdvancingInput>> advancing_;
+  std::vector<std::shared_ptr<CheckingInput>> checking_;
+  std::vector<std::shared_ptr<PoseSampler>> samplers_;
+  StepContext ctx_;
+  Estimate estimate_;
+  double w_slow_ = 0.0, w_fast_ = 0.0;
+  std::size_t monitored_ = 0;
+  bool lost_ = true;
+  bool reset_pending_ = false;
+  double recover_until_ = -1e300;  // roughen after resampling until then
+  unsigned long resamplings_ = 0, resets_ = 0;
+};
+
+}  // namespace hal_nodes::mcl

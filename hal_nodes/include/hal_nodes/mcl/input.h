@@ -1,0 +1,74 @@
+// The two kinds of inputs the filter knows (the original design's modularity): an input
+// registers itself with the filter and interprets its own data.
+//   AdvancingInput  moves the particles (odometry), with noise from its motion model.
+//   CheckingInput   reweights the particles by the likelihood of its latest measurement,
+//                   raised to its configured reliability in [0, 1] (0: ignored, 1: trusted).
+//   PoseSampler     an input that can also propose poses from its data alone, used to recover
+//                   when the filter is lost (sensor resetting).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "hal_nodes/mcl/particle_set.h"
+#include "hal_nodes/mcl/pose.h"
+#include "hal_nodes/mcl/rng.h"
+
+namespace hal_nodes::mcl {
+
+// What the filter tells its inputs about the current step.
+struct StepContext {
+  double now = 0.0;      // [s] time of the step (measurement stamps are compared with it)
+  double quality = 0.0;  // the filter's current probability of being right, 0..1
+  Rng* rng = nullptr;
+};
+
+class AdvancingInput {
+ public:
+  explicit AdvancingInput(std::string name) : name_(std::move(name)) {}
+  virtual ~AdvancingInput() = default;
+  const std::string& name() const { return name_; }
+  // Move every particle by the motion accumulated since the last call (no-op if none).
+  virtual void advance(ParticleSet& set, const StepContext& ctx) = 0;
+
+ private:
+  std::string name_;
+};
+
+class CheckingInput {
+ public:
+  CheckingInput(std::string name, double reliability) : name_(std::move(name)), reliability_(reliability) {}
+  virtual ~CheckingInput() = default;
+  const std::string& name() const { return name_; }
+  double reliability() const { return reliability_; }
+  // Whether a measurement waits to be applied at this step.
+  virtual bool ready(const StepContext& ctx) const = 0;
+  // Multiply each particle's weight by its likelihood^reliability, then consume the measurement.
+  virtual void check(ParticleSet& set, const StepContext& ctx) = 0;
+  // True for inputs whose likelihood tracks whether the filter is lost (w_slow/w_fast).
+  virtual bool monitorsLikelihood() const { return false; }
+  // Drop pending data (on reset).
+  virtual void clear() {}
+
+ protected:
+  // likelihood^reliability without a pow() when reliability is 1.
+  double tempered(double likelihood) const {
+    return reliability_ == 1.0 ? likelihood : std::pow(likelihood, reliability_);
+  }
+
+ private:
+  std::string name_;
+  double reliability_;
+};
+
+class PoseSampler {
+ public:
+  virtual ~PoseSampler() = default;
+  // Whether the data now allows proposing poses.
+  virtual bool canSample(const StepContext& ctx) const = 0;
+  // A pose drawn from the data alone (heading may be drawn uniformly when unobserved).
+  virtual Pose2 sample(const StepContext& ctx) = 0;
+};
+
+}  // namespace hal_nodes::mcl

@@ -1,0 +1,259 @@
+#include "hal_nodes/mcl/filter.h"
+
+#include <mrpt/random/RandomGenerators.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hal_nodes::mcl {
+
+using mrpt::bayes::CParticleFilter;
+
+bool parseResampling(const std::string& name, CParticleFilter::TParticleResamplingAlgorithm* out) {
+  if (name == "multinomial") *out = CParticleFilter::prMultinomial;
+  else if (name == "residual") *out = CParticleFilter::prResidual;
+  else if (name == "stratified") *out = CParticleFilter::prStratified;
+  else if (name == "systematic") *out = CParticleFilter::prSystematic;
+  else return false;
+  return true;
+}
+
+Filter::Filter(const FilterConfig& cfg, std::shared_ptr<TableModel> table)
+    : cfg_(cfg), table_(std::move(table)), rng_(cfg.seed) {
+  if (!table_) throw std::invalid_argument("filter: a table model is needed");
+  if (cfg_.max_particles < 1) throw std::invalid_argument("max_particles must be >= 1");
+  if (cfg_.min_particles < 1 || cfg_.min_particles > cfg_.max_particles)
+    throw std::invalid_argument("min_particles must be in [1, max_particles]");
+  if (!(cfg_.ess_threshold >= 0.0 && cfg_.ess_threshold <= 1.0)) throw std::invalid_argument("ess_threshold must be in [0, 1]");
+  if (!(cfg_.alpha_slow > 0.0 && cfg_.alpha_slow < cfg_.alpha_fast && cfg_.alpha_fast <= 1.0))
+    throw std::invalid_argument("need 0 < alpha_slow < alpha_fast <= 1");
+  if (!(cfg_.reset_fraction > 0.0 && cfg_.reset_fraction <= 1.0)) throw std::invalid_argument("reset_fraction must be in (0, 1]");
+  if (!(cfg_.kld.epsilon > 0.0 && cfg_.kld.bin_xy > 0.0 && cfg_.kld.bin_theta > 0.0))
+    throw std::invalid_argument("kld epsilon and bin sizes must be > 0");
+  set_.setHooks(this);
+  // MRPT drives the step: standard proposal (our prediction_and_update), the selected
+  // resampling scheme when ESS < BETA. Its own adaptive sample size requires multinomial
+  // resampling and its own proposal, so the KLD count is applied in performSubstitution instead.
+  pf_.m_options.PF_algorithm = CParticleFilter::pfStandardProposal;
+  pf_.m_options.resamplingMethod = cfg_.resampling;
+  pf_.m_options.adaptiveSampleSize = false;
+  pf_.m_options.BETA = cfg_.ess_threshold;
+  pf_.m_options.sampleSize = static_cast<unsigned int>(cfg_.max_particles);
+  pf_.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+  bins_.reserve(cfg_.max_particles);
+  ctx_.rng = &rng_;
+  globalLocalization();
+}
+
+void Filter::addAdvancing(std::shared_ptr<AdvancingInput> input) { advancing_.push_back(std::move(input)); }
+void Filter::addChecking(std::shared_ptr<CheckingInput> input) { checking_.push_back(std::move(input)); }
+void Filter::addSampler(std::shared_ptr<PoseSampler> sampler) { samplers_.push_back(std::move(sampler)); }
+
+void Filter::clearInputs() {
+  for (auto& c : checking_) c->clear();
+}
+
+void Filter::setPose(const Pose2& pose, double std_xy, double std_theta) {
+  set_.resize(cfg_.max_particles);
+  for (std::size_t i = 0; i < set_.size(); ++i) {
+    double x = pose.x + std_xy * rng_.gaussian(), y = pose.y + std_xy * rng_.gaussian();
+    table_->project(x, y);
+    set_.x[i] = x;
+    set_.y[i] = y;
+    set_.theta[i] = wrapAngle(pose.theta + std_theta * rng_.gaussian());
+  }
+  std::fill(set_.w.begin(), set_.w.end(), 1.0);
+  lost_ = reset_pending_ = false;
+  monitored_ = 0;
+  recover_until_ = -1e300;
+  estimate_.pose = pose;
+  computeEstimate();
+}
+
+void Filter::setPoseUniform(const Pose2& pose, double half_xy, double half_theta) {
+  set_.resize(cfg_.max_particles);
+  for (std::size_t i = 0; i < set_.size(); ++i) {
+    double x = pose.x + rng_.uniform(-half_xy, half_xy), y = pose.y + rng_.uniform(-half_xy, half_xy);
+    table_->project(x, y);
+    set_.x[i] = x;
+    set_.y[i] = y;
+    set_.theta[i] = wrapAngle(pose.theta + rng_.uniform(-half_theta, half_theta));
+  }
+  std::fill(set_.w.begin(), set_.w.end(), 1.0);
+  lost_ = reset_pending_ = false;
+  monitored_ = 0;
+  recover_until_ = -1e300;
+  estimate_.pose = pose;
+  computeEstimate();
+}
+
+void Filter::globalLocalization() {
+  set_.resize(cfg_.max_particles);
+  for (std::size_t i = 0; i < set_.size(); ++i) {
+    const Pose2 p = table_->sampleFree(rng_);
+    set_.x[i] = p.x;
+    set_.y[i] = p.y;
+    set_.theta[i] = p.theta;
+  }
+  std::fill(set_.w.begin(), set_.w.end(), 1.0);
+  lost_ = reset_pending_ = true;
+  monitored_ = 0;
+  computeEstimate();
+}
+
+void Filter::update(double now) {
+  ctx_.now = now;
+  ctx_.quality = estimate_.probability;
+  pf_.executeOn(set_, nullptr, nullptr);
+  computeEstimate();
+}
+
+void Filter::predictAndUpdate(ParticleSet& set) {
+  for (auto& a : advancing_) a->advance(set, ctx_);
+  const double s0 = set.weightSum();
+  bool monitored = false;
+  for (auto& c : checking_) {
+    if (!c->ready(ctx_)) continue;
+    c->check(set, ctx_);
+    monitored |= c->monitorsLikelihood();
+  }
+  table_->check(set, ctx_);
+  const double s1 = set.weightSum();
+
+  if (!(s1 > 0.0) || !std::isfinite(s1)) {
+    // Every particle became impossible: lost for sure.
+    std::fill(set.w.begin(), set.w.end(), 1.0);
+    lost_ = reset_pending_ = true;
+    monitored = false;
+    if (!resetFromSensorsIfPossible()) globalLocalization();
+    return;
+  }
+  if (monitored && s0 > 0.0) {
+    // Augmented MCL's averages of the measurement likelihood; a collapse of the short-term
+    // one against the long-term one means the particles no longer explain the data.
+    const double w_avg = s1 / s0;
+    if (monitored_ == 0) {
+      w_slow_ = w_fast_ = w_avg;
+    } else {
+      w_slow_ += cfg_.alpha_slow * (w_avg - w_slow_);
+      w_fast_ += cfg_.alpha_fast * (w_avg - w_fast_);
+    }
+    ++monitored_;
+    if (!reset_pending_ && monitored_ > cfg_.warmup && w_fast_ < cfg_.lost_ratio * w_slow_) {
+      lost_ = reset_pending_ = true;
+    }
+  }
+  if (reset_pending_ && resetFromSensorsIfPossible()) return;
+
+  // MRPT's resampling draws from its global generator: seed it from ours so a fixed ~seed
+  // replays identically whatever else in the process uses it.
+  if (set.ESS() < cfg_.ess_threshold)
+    mrpt::random::getRandomGenerator().randomize(static_cast<uint32_t>(rng_.next() >> 32));
+}
+
+bool Filter::resetFromSensorsIfPossible() {
+  PoseSampler* sampler = nullptr;
+  for (auto& s : samplers_)
+    if (s->canSample(ctx_)) {
+      sampler = s.get();
+      break;
+    }
+  if (!sampler) return false;
+  const std::size_t n = set_.size();
+  const auto replace = static_cast<std::size_t>(std::round(cfg_.reset_fraction * static_cast<double>(n)));
+  const double step = replace > 0 ? static_cast<double>(n) / static_cast<double>(replace) : 0.0;
+  const double u = rng_.uniform();
+  for (std::size_t k = 0; k < replace; ++k) {
+    const std::size_t i = std::min(n - 1, static_cast<std::size_t>((static_cast<double>(k) + u) * step));
+    const Pose2 p = sampler->sample(ctx_);
+    set_.x[i] = p.x;
+    set_.y[i] = p.y;
+    set_.theta[i] = p.theta;
+  }
+  std::fill(set_.w.begin(), set_.w.end(), 1.0);
+  reset_pending_ = false;
+  lost_ = true;  // recovering until the cloud is tight again
+  monitored_ = 0;
+  ++resets_;
+  recover_until_ = ctx_.now + cfg_.recovery_time;
+  return true;
+}
+
+std::size_t Filter::resampledCount(const ParticleSet&, const std::vector<size_t>& picked) {
+  ++resamplings_;
+  if (!cfg_.adaptive || lost_) return cfg_.max_particles;
+  bins_.clear();
+  for (size_t i : picked) bins_.add(set_.x[i], set_.y[i], set_.theta[i], cfg_.kld);
+  return std::clamp(kldBound(bins_.count(), cfg_.kld), cfg_.min_particles, cfg_.max_particles);
+}
+
+void Filter::afterResampling(ParticleSet& set) {
+  if (ctx_.now >= recover_until_) return;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    set.x[i] += cfg_.roughen_xy * rng_.gaussian();
+    set.y[i] += cfg_.roughen_xy * rng_.gaussian();
+    set.theta[i] = wrapAngle(set.theta[i] + cfg_.roughen_theta * rng_.gaussian());
+  }
+}
+
+void Filter::computeEstimate() {
+  const std::size_t n = set_.size();
+  const double* px = set_.x.data();
+  const double* py = set_.y.data();
+  const double* pt = set_.theta.data();
+  const double* w = set_.w.data();
+  // Heading mean: relative to a reference heading when the cloud is tight (no trigonometry
+  // in the loop), circular mean when it is spread (lost).
+  double ref = estimate_.pose.theta;
+  if (lost_) {
+    double sc = 0.0, ss = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      sc += w[i] * std::cos(pt[i]);
+      ss += w[i] * std::sin(pt[i]);
+    }
+    ref = std::atan2(ss, sc);
+  }
+  double sw = 0, sx = 0, sy = 0, st = 0, sxx = 0, syy = 0, sxy = 0, stt = 0, sxt = 0, syt = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double wi = w[i];
+    const double dt = wrapAngle(pt[i] - ref);
+    sw += wi;
+    sx += wi * px[i];
+    sy += wi * py[i];
+    st += wi * dt;
+    sxx += wi * px[i] * px[i];
+    syy += wi * py[i] * py[i];
+    sxy += wi * px[i] * py[i];
+    stt += wi * dt * dt;
+    sxt += wi * px[i] * dt;
+    syt += wi * py[i] * dt;
+  }
+  if (!(sw > 0.0)) return;
+  const double mx = sx / sw, my = sy / sw, mt = st / sw;
+  Estimate& e = estimate_;
+  e.cov[0] = std::max(0.0, sxx / sw - mx * mx);
+  e.cov[4] = std::max(0.0, syy / sw - my * my);
+  e.cov[8] = std::max(0.0, stt / sw - mt * mt);
+  e.cov[1] = e.cov[3] = sxy / sw - mx * my;
+  e.cov[2] = e.cov[6] = sxt / sw - mx * mt;
+  e.cov[5] = e.cov[7] = syt / sw - my * mt;
+  double x = mx, y = my;
+  table_->project(x, y);  // the final estimate is possible too
+  e.pose = {x, y, wrapAngle(ref + mt)};
+  e.particles = n;
+  e.ess = set_.ESS() * static_cast<double>(n);
+
+  const double var_xy = 0.5 * (e.cov[0] + e.cov[4]);
+  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && e.cov[8] < 0.04) lost_ = false;
+  // Probability of being within quality_tolerance: the cloud's own spread (Rayleigh), times
+  // how well the particles still explain the measurements (w_fast / w_slow).
+  const double tol2 = cfg_.quality_tolerance * cfg_.quality_tolerance;
+  double p = var_xy > 0.0 ? 1.0 - std::exp(-0.5 * tol2 / var_xy) : 1.0;
+  if (monitored_ > cfg_.warmup && w_slow_ > 0.0) p *= std::clamp(w_fast_ / w_slow_, 0.0, 1.0);
+  e.probability = lost_ ? 0.0 : std::clamp(p, 0.0, 1.0);
+  e.lost = lost_;
+}
+
+}  // namespace hal_nodes::mcl

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Localization (issue 7): our MCL (mcl_bench, the node's filter library) side by side with
+# MRPT's stock CMonteCarloLocalization2D + CBeaconMap (mcl_bench_stock) on the committed
+# synthetic beacon runs of ../shared/bench, both modes, 2,000 particles, and the ratios
+# ours/stock. The stock filter gets the run's true range noise and an odometry model matched
+# to the run (its defaults do worse); global mode for it also at 10,000 particles, the count
+# it needs (../shared/bench/README.md). Wall-clock figures on this machine, shared cores.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+data="$root/../shared/bench"
+if [ ! -f "$data/run_seed1.csv" ] || [ ! -f "$data/run_seed2_noisy.csv" ]; then
+  echo "mcl bench: the benchmark runs are missing: expected $data/run_seed1.csv and run_seed2_noisy.csv" >&2
+  exit 1
+fi
+n=2000
+ratio() {  # ours stock field -> ours/stock
+  python3 - "$1" "$2" "$3" <<'PY'
+import sys
+def f(line, key):
+    t = line.split(); return float(t[t.index(key) + 1])
+o, s, k = sys.argv[1], sys.argv[2], sys.argv[3]
+print(f"{f(o, k) / f(s, k):.2f}" if f(s, k) > 0 else "n/a")
+PY
+}
+for run in "run_seed1.csv 0.01" "run_seed2_noisy.csv 0.02"; do
+  set -- $run
+  file="$data/$1"; noise=$2
+  for mode in track global; do
+    ours=$(rosrun hal_nodes mcl_bench "$file" $n $mode)
+    stock=$(rosrun hal_nodes mcl_bench_stock "$file" $n $mode --range-std "$noise" --tuned-motion)
+    echo "$1 ours : $ours"
+    echo "$1 stock: $stock"
+    echo "$1 $mode ratio ours/stock: p50_ms $(ratio "$ours" "$stock" p50_ms) rmse_mm $(ratio "$ours" "$stock" rmse_mm) max_mm $(ratio "$ours" "$stock" max_mm) heading_rmse_deg $(ratio "$ours" "$stock" heading_rmse_deg)"
+  done
+  echo "$1 stock: $(rosrun hal_nodes mcl_bench_stock "$file" 10000 global --range-std "$noise" --tuned-motion)"
+done
