@@ -21,8 +21,9 @@ URDF_DIR = os.path.join(rospkg.RosPack().get_path('robot_description'), 'urdf')
 COMMON = ['base_link', 'base_footprint', 'left_wheel_link', 'right_wheel_link', 'caster_link',
           'compass_link', 'beacon_receiver_link', 'camera_link', 'camera_optical_frame']
 EXPECTED = {
-    'eurobot2009': COMMON + ['hand_link', 'hand_lift_link', 'hand_left_finger_link', 'hand_right_finger_link'],
-    'logion': COMMON + ['harvester_link'],
+    'eurobot2009': COMMON + ['hand_link', 'hand_lift_link', 'hand_left_finger_link', 'hand_right_finger_link',
+                    'left_free_wheel_link', 'right_free_wheel_link'],
+    'logion': COMMON + ['harvester_link', 'harvester_door_link'],
     'skeleton': ['base_link', 'lamp_link'],
 }
 GLOBAL_FRAMES = {'map', 'odom'}
@@ -113,6 +114,26 @@ class DescriptionTest(unittest.TestCase):
                     self.assertLess(abs(d), 0.02, '%s %s yaw %.3f vs mount %.3f' % (robot, link, rpy[2], mount[2]))
                 checked += 1
         sys.stdout.write('simulated ranger mounts checked against the URDF: %d\n' % checked)
+
+    def test_simulated_geometry_matches_urdf(self):
+        # Wheels (radius, track) and the collision outline of sim/world/robot match the URDF.
+        checked = 0
+        for robot in ('eurobot2009', 'logion'):
+            _, joints = parse(robot)
+            _, sim = load_config(robot, True)
+            world_robot = ((sim.get('sim') or {}).get('world') or {}).get('robot') or {}
+            if 'wheel_base' not in world_robot:
+                continue
+            root = ET.parse(os.path.join(URDF_DIR, robot + '.urdf')).getroot()
+            _, left, _ = joints['left_wheel_link']
+            _, right, _ = joints['right_wheel_link']
+            self.assertAlmostEqual(left[1] - right[1], world_robot['wheel_base'], delta=0.002, msg=robot + ' track')
+            self.assertAlmostEqual(left[2], world_robot['wheel_radius'], delta=0.002, msg=robot + ' wheel radius')
+            chassis = [l for l in root.findall('link') if l.get('name') == 'chassis_link'][0]
+            radius = float(chassis.find('visual/geometry/cylinder').get('radius'))
+            self.assertAlmostEqual(radius, world_robot['radius'], delta=0.005, msg=robot + ' outline radius')
+            checked += 1
+        sys.stdout.write('simulated robot geometries checked against the URDF: %d\n' % checked)
 
     def test_table_markers_draw_the_config_table(self):
         rospy.init_node('test_product_description', anonymous=True)
