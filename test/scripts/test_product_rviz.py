@@ -85,6 +85,7 @@ class RvizTest(unittest.TestCase):
              'rviz', '-d', config], stdout=open(os.path.join(cls.tmp, 'rviz.log'), 'w'),
             stderr=subprocess.STDOUT, start_new_session=True)
         cls.stop = threading.Event()
+        cls.robot_on = threading.Event()
         cls.cloud_on = threading.Event()
         cls.thread = threading.Thread(target=cls.publish)
         cls.thread.start()
@@ -114,6 +115,9 @@ class RvizTest(unittest.TestCase):
             p.orientation.z, p.orientation.w = math.sin(a / 2), math.cos(a / 2)
             poses.append(p)
         while not cls.stop.is_set() and not rospy.is_shutdown():
+            if not cls.robot_on.is_set():
+                time.sleep(0.1)
+                continue
             t = TransformStamped()
             t.header.stamp = rospy.Time.now()
             t.header.frame_id, t.child_frame_id = 'map', 'base_link'
@@ -151,21 +155,28 @@ class RvizTest(unittest.TestCase):
 
     def test_scene_then_particle_cloud(self):
         # Without a cloud: the table and the robot, and no magenta anywhere.
-        found, ncolours = self.wait_for('before.png', lambda f: f['table'] and len(f['blue']) > 30, 60.0)
+        found, ncolours = self.wait_for('empty.png', lambda f: f['table'], 60.0)
         self.assertGreater(ncolours, 20, 'the screenshot is (nearly) blank')
         self.assertTrue(found.get('table'), 'no table on screen')
         x0, y0, x1, y1 = found['table']
         # The table is drawn with the config's proportions (3.0 x 2.1 m, top view, square pixels).
         self.assertGreater(x1 - x0, 300)
         self.assertAlmostEqual((x1 - x0) / float(y1 - y0), TABLE[0] / TABLE[1], delta=0.08)
-        self.assertGreater(len(found.get('blue', [])), 30, 'no robot model on the table')
         self.assertLess(len(found['magenta']), 5, 'magenta on the table before any particle was published')
-        # The robot body is where tf puts it on the table (y axis points up on screen).
-        bx0, by0, bx1, by1 = box(found['blue'])
+        # No tf yet, so no robot: what is blue now belongs to the table (start zones).
+        table_blue = set(found['blue'])
+
+        # With tf map -> base_link, the robot model appears where tf puts it (y up on screen).
+        self.robot_on.set()
+        found, _ = self.wait_for('robot.png', lambda f: len(set(f['blue']) - table_blue) > 30, 30.0)
+        robot = list(set(found['blue']) - table_blue)
+        self.assertGreater(len(robot), 30, 'no robot model on the table')
+        self.assertLess(len(found['magenta']), 5, 'magenta on the table before any particle was published')
+        bx0, by0, bx1, by1 = box(robot)
         fx = ((bx0 + bx1) / 2 - x0) / float(x1 - x0)
         fy = (y1 - (by0 + by1) / 2) / float(y1 - y0)
-        self.assertAlmostEqual(fx, ROBOT_AT[0] / TABLE[0], delta=0.06)
-        self.assertAlmostEqual(fy, ROBOT_AT[1] / TABLE[1], delta=0.08)
+        self.assertAlmostEqual(fx, ROBOT_AT[0] / TABLE[0], delta=0.06, msg='robot x on screen')
+        self.assertAlmostEqual(fy, ROBOT_AT[1] / TABLE[1], delta=0.08, msg='robot y on screen')
 
         self.cloud_on.set()
         found, _ = self.wait_for('after.png', lambda f: f['table'] and len(f['magenta']) > 200, 30.0)
