@@ -89,15 +89,28 @@ class Match(object):
         return DEFAULT_TABLE
 
     def brain_states(self):
-        """[(t, state name)] from the first /brain/ topic that carries states; (topic, list)."""
+        """(topic, [(t, state)]): the brain's active state over time. From the state machine's
+        introspection (<brain>/smach/container_status: the chain of active states from the root
+        container down, e.g. MATCH/TAKE_COLUMN/GOTO), else from a /brain/ topic with a `state`."""
+        for topic in self.find('/brain/', 'container_status'):
+            latest, states = {}, []
+            for _, msg, t in self.bag.read_messages(topics=[topic]):
+                latest[msg.path] = list(msg.active_states)
+                root = min(latest, key=lambda p: (p.count('/'), len(p)))
+                parts, path = [], root
+                while latest.get(path):
+                    parts.append(latest[path][0])
+                    path = path + '/' + latest[path][0]
+                label = '/'.join([root.strip('/')] + parts)
+                if not states or states[-1][1] != label:
+                    states.append((stamp_of(msg, t), label))
+            if states:
+                return topic, states
         for topic in self.find('/brain/'):
             states = []
             for _, msg, t in self.bag.read_messages(topics=[topic]):
                 name = None
-                if hasattr(msg, 'active_states'):
-                    path = getattr(msg, 'path', '')
-                    name = (path + ':' if path else '') + ','.join(msg.active_states)
-                elif isinstance(getattr(msg, 'state', None), str):
+                if isinstance(getattr(msg, 'state', None), str):
                     name = msg.state
                 elif isinstance(getattr(msg, 'current_state', None), str):
                     name = msg.current_state
@@ -105,10 +118,19 @@ class Match(object):
                     name = msg.data
                 if name is None:
                     break
-                states.append((stamp_of(msg, t), name))
+                if not states or states[-1][1] != name:
+                    states.append((stamp_of(msg, t), name))
             if states:
                 return topic, states
         return None, []
+
+    def match_status(self):
+        """The brain's last /brain/match_status (state, strategy, elapsed), or None."""
+        last = None
+        for topic in self.find('/brain/', 'match_status'):
+            for _, msg, _ in self.bag.read_messages(topics=[topic]):
+                last = msg
+        return last
 
     def score(self):
         for topic in self.find('/sim/', 'score') + self.find('/brain/', 'score'):
@@ -138,8 +160,26 @@ class Match(object):
         return lines, sorted(diag)
 
     def triggers(self):
-        """[(t, description)] of trigger firings."""
+        """[(t, trigger name)] of trigger firings: the supervisor's root container switching to a
+        trigger's handler (edges labelled `fired` in container_structure), else /brain/...trigger...
+        topics, else brain log lines saying a trigger fired."""
+        names = set()
+        for topic in self.find('/brain/', 'container_structure'):
+            for _, msg, _ in self.bag.read_messages(topics=[topic]):
+                for outcome, to in zip(getattr(msg, 'internal_outcomes', []), getattr(msg, 'outcomes_to', [])):
+                    if outcome == 'fired':
+                        names.add(to)
         fired = []
+        if names:
+            for topic in self.find('/brain/', 'container_status'):
+                previous = {}
+                for _, msg, t in self.bag.read_messages(topics=[topic]):
+                    active = list(msg.active_states)
+                    for name in active:
+                        if name in names and name not in previous.get(msg.path, []):
+                            fired.append((stamp_of(msg, t), name))
+                    previous[msg.path] = active
+            return sorted(fired)
         for topic in self.find('/brain/', 'trigger'):
             for _, msg, t in self.bag.read_messages(topics=[topic]):
                 text = getattr(msg, 'name', None) or getattr(msg, 'data', None) or topic
@@ -204,6 +244,9 @@ def report(bag_path, out_png):
     else:
         summary.append('localization error: absent (needs an estimate and /sim/ground_truth)')
     summary.append('brain states: %s' % ('%d changes on %s' % (len(states), state_topic) if states else 'absent'))
+    match = m.match_status()
+    if match is not None:
+        summary.append('match: %s, strategy %s, %.1f s elapsed' % (match.state, match.strategy, match.elapsed))
     summary.append('errors: %d ERROR/FATAL log line(s), %d diagnostic(s) went ERROR/STALE%s'
                    % (len(error_lines), len(diag_bad), (': ' + ', '.join(diag_bad[:4])) if diag_bad else ''))
     for line in error_lines[:3]:
