@@ -1,0 +1,168 @@
+#include "canopen_board.h"
+
+#include <algorithm>
+
+#include "hcl_drivers/transport/endpoint.h"
+
+namespace hcl_drivers {
+
+using transport::BusState;
+
+void CanopenBoard::init(BoardContext& ctx) {
+  name_ = ctx.name;
+  const std::string url = requireString(ctx.pnh, "bus");
+  try {
+    const auto ep = transport::parseEndpoint(url);
+    if (ep.scheme != "socketcan" && ep.scheme != "udp") throw std::invalid_argument("not a CAN bus");
+  } catch (const std::invalid_argument&) {
+    throw ParameterError("parameter " + qualified(ctx.pnh, "bus") + " = '" + url +
+                         "': allowed values: socketcan://IFACE or udp://127.0.0.1:PORT");
+  }
+  node_id_ = requireInt(ctx.pnh, "node_id");
+  if (!canopen::validNodeId(node_id_))
+    throw ParameterError("parameter " + qualified(ctx.pnh, "node_id") + " = " + std::to_string(node_id_) +
+                         ": must be a CANopen node id 1..127");
+  answer_timeout_ = optionalDouble(ctx.pnh, "answer_timeout", std::min(0.02, 0.5 / ctx.rate));
+  requirePositive(ctx.pnh, "answer_timeout", answer_timeout_);
+  sdo_timeout_ = optionalDouble(ctx.pnh, "sdo_timeout", 0.05);
+  requirePositive(ctx.pnh, "sdo_timeout", sdo_timeout_);
+  command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.25);
+  requirePositive(ctx.pnh, "command_timeout", command_timeout_);
+  stale_timeout_ = optionalDouble(ctx.pnh, "stale_timeout", std::max(0.3, 3.0 / ctx.rate));
+
+  // The board's own parameters first, so a bad one stops the node before the bus is opened.
+  try {
+    bus_ = transport::openCanBus(url);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot open CAN bus " + url + ": " + e.what());
+  }
+  // setup() registers handlers on node(): the node must exist; its extra filters come first.
+  node_.reset();
+  std::vector<uint32_t> extra = extraCobIds();
+  node_ = std::make_unique<canopen::RemoteNode>(bus_, static_cast<uint8_t>(node_id_), extra);
+  setup(ctx);
+  node_->onBootUp([this] {
+    ROS_WARN("%s: boot-up message from node %d: the board reset; restarting it", name_.c_str(), node_id_);
+    need_start_ = need_configure_ = true;
+  });
+  last_ok_ = ros::WallTime::now();
+}
+
+uint32_t CanopenBoard::cobIdParam(const ros::NodeHandle& pnh, const std::string& name, uint32_t fallback) {
+  const int v = optionalInt(pnh, name, static_cast<int>(fallback));
+  if (v < 1 || v > 0x7FF)
+    throw ParameterError("parameter " + qualified(pnh, name) + " = " + std::to_string(v) +
+                         ": must be an 11-bit COB-ID 0x001..0x7FF");
+  return static_cast<uint32_t>(v);
+}
+
+bool CanopenBoard::acceptCommand(const char* what) {
+  if (answering_) return true;
+  ++refused_;
+  ROS_WARN_THROTTLE(1.0, "%s: board (node %d) not answering: %s command refused", name_.c_str(), node_id_, what);
+  return false;
+}
+
+bool CanopenBoard::fresh(const ros::Time& stamp, const ros::Time& received) const {
+  const ros::Time now = ros::Time::now();
+  if (received.isZero()) return false;
+  if ((now - received).toSec() > command_timeout_) return false;
+  if (!stamp.isZero() && (now - stamp).toSec() > command_timeout_) return false;
+  return true;
+}
+
+void CanopenBoard::fillStatus(CanNodeStatus& s) {
+  s.node_id = static_cast<uint8_t>(node_id_);
+  s.nmt_state = canopen::toString(node_->state());
+  s.answering = answering_;
+  const auto bs = bus_->status();
+  s.bus_state = transport::toString(bs.state);
+  s.boot_ups = static_cast<uint32_t>(node_->bootUps());
+  s.malformed_frames = static_cast<uint32_t>(node_->malformed());
+  s.unknown_frames = static_cast<uint32_t>(node_->unknownCobIds());
+  s.sdo_aborts = static_cast<uint32_t>(node_->sdoAborts());
+  s.commands_refused = static_cast<uint32_t>(refused_);
+  s.last_error = lastError();
+  std::lock_guard<std::mutex> lk(status_mutex_);
+  status_copy_ = s;
+}
+
+bool CanopenBoard::service() {
+  const auto bus = bus_->status();
+  bool ok = false;
+  if (bus.state == BusState::kBusOff) {
+    // Nothing can be sent; still read what arrives (a received frame means the bus is back).
+    node_->pump();
+    fail("CAN bus " + bus_->url() + " is bus-off (" + bus.last_error + ")");
+  } else {
+    node_->pump();  // boot-ups and heartbeats that arrived between polls
+    try {
+      if (need_start_) {
+        if (!node_->nmt(canopen::NmtCommand::kStart)) throw std::runtime_error("NMT start: " + node_->lastError());
+        need_start_ = false;
+      }
+      if (need_configure_) {
+        configure();
+        need_configure_ = false;
+      }
+      ok = exchange();
+    } catch (const std::exception& e) {
+      fail(e.what());
+      ok = false;
+    }
+  }
+  const ros::WallTime now = ros::WallTime::now();
+  if (ok) {
+    last_ok_ = now;
+    consecutive_failures_ = 0;
+    answering_ = true;
+  } else {
+    // A node that reset without us seeing its boot-up sits in pre-operational and ignores RTRs:
+    // start it again (cheap, idempotent).
+    if (++consecutive_failures_ >= 2) need_start_ = true;
+    if ((now - last_ok_).toSec() > stale_timeout_) answering_ = false;
+  }
+  const bool state_changed = bus.state != last_bus_state_ || answering_ != was_answering_;
+  last_bus_state_ = bus.state;
+  was_answering_ = answering_;
+  if (!ok && state_changed) publishState();  // faults show on the state topic too
+  return ok;
+}
+
+void CanopenBoard::halt() {
+  if (!node_) return;
+  answering_ = false;
+  try {
+    stopActuators();
+  } catch (const std::exception& e) {
+    ROS_ERROR("%s: stopping actuators failed: %s", name_.c_str(), e.what());
+  }
+}
+
+void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const auto bs = bus_->status();
+  {
+    std::lock_guard<std::mutex> lk(status_mutex_);
+    stat.add("node id", node_id_);
+    stat.add("NMT state", status_copy_.nmt_state);
+    stat.add("boot-ups seen", status_copy_.boot_ups);
+    stat.add("malformed frames", status_copy_.malformed_frames);
+    stat.add("unknown COB-ID frames", status_copy_.unknown_frames);
+    stat.add("SDO aborts", status_copy_.sdo_aborts);
+  }
+  stat.add("commands refused", refused_.load());
+  stat.add("bus", bus_->url());
+  stat.add("bus state", transport::toString(bs.state));
+  stat.add("bus error frames", bs.error_frames);
+  stat.add("bus-off events", bs.bus_off_count);
+  stat.add("controller restarts", bs.restarts);
+  stat.add("bus rx frames", bs.rx_frames);
+  stat.add("bus tx frames", bs.tx_frames);
+  stat.add("bus tx failures", bs.tx_failures);
+  stat.add("bus malformed datagrams", bs.malformed);
+  stat.add("bus queue overruns", bs.overruns);
+  if (!bs.last_error.empty()) stat.add("bus last error", bs.last_error);
+  diagnoseBoard(stat);
+}
+
+}  // namespace hcl_drivers

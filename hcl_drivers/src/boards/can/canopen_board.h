@@ -1,0 +1,84 @@
+// What every CANopen board driver shares: the bus, the node, NMT start after boot-up, bus-off and
+// stale handling, refused commands, diagnostics. A board adds its PDOs and topics in
+// configure()/exchange(); see motor_board.cpp for the pattern.
+//
+// Common parameters (besides rate/loop/stale_timeout of board_nodelet.h):
+//   ~bus              socketcan://IFACE or udp://127.0.0.1:PORT (required); boards naming the
+//                     same bus in one process share one bus object, each with its own filters
+//   ~node_id          CANopen node id 1..127 (required)
+//   ~answer_timeout   [s] wait for the requested PDOs (default min(0.02, 0.5 / rate))
+//   ~sdo_timeout      [s] wait for an SDO answer (default 0.05)
+//   ~command_timeout  [s] a command older than this is dropped and the actuator stopped (default 0.25)
+//   ~<pdo>_cob_id     every PDO's COB-ID, defaults from CiA 301 (0x180/0x200/0x280 + node id)
+#pragma once
+
+#include <hcl_drivers/CanNodeStatus.h>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+#include "hcl_drivers/board.h"
+#include "hcl_drivers/canopen/canopen.h"
+
+namespace hcl_drivers {
+
+class CanopenBoard : public Board {
+ public:
+  void init(BoardContext& ctx) final;
+  bool service() final;
+  void halt() final;
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override;
+
+ protected:
+  using CanFrame = transport::CanFrame;
+  // Read parameters, register PDO handlers (node().onFrame), advertise and subscribe.
+  // Throw ParameterError on bad configuration.
+  virtual void setup(BoardContext& ctx) = 0;
+  // COB-IDs outside this node's id range that the board must receive (before the node exists).
+  virtual std::vector<uint32_t> extraCobIds() const { return {}; }
+  // SDO configuration, after start and after every boot-up (throws canopen::SdoError).
+  virtual void configure() {}
+  // One poll: send commands, request PDOs by RTR, wait for them (node().waitFor), publish.
+  // Return false after fail("why") when the board did not answer.
+  virtual bool exchange() = 0;
+  // Put the actuators in their safe state (best effort, the board may be gone).
+  virtual void stopActuators() = 0;
+  // Publish the latched ~state now (also called when the board goes stale or the bus off).
+  virtual void publishState() = 0;
+  // Diagnostic values of the board itself.
+  virtual void diagnoseBoard(diagnostic_updater::DiagnosticStatusWrapper&) {}
+
+  canopen::RemoteNode& node() { return *node_; }
+  int nodeId() const { return node_id_; }
+  double answerTimeout() const { return answer_timeout_; }
+  double commandTimeout() const { return command_timeout_; }
+  double sdoTimeout() const { return sdo_timeout_; }
+  // ~<name> as a COB-ID (1..0x7FF), default `fallback`.
+  uint32_t cobIdParam(const ros::NodeHandle& pnh, const std::string& name, uint32_t fallback);
+  // True when the board answers; otherwise counts the refusal and logs `what` (throttled).
+  bool acceptCommand(const char* what);
+  // Whether a command stamped `stamp` (received at `received`) is still fresh.
+  bool fresh(const ros::Time& stamp, const ros::Time& received) const;
+  void fillStatus(CanNodeStatus& s);
+  const std::string& boardName() const { return name_; }
+
+ private:
+  std::shared_ptr<transport::CanBus> bus_;
+  std::unique_ptr<canopen::RemoteNode> node_;
+  std::string name_;
+  int node_id_ = 0;
+  double answer_timeout_ = 0.02, sdo_timeout_ = 0.05, command_timeout_ = 0.25, stale_timeout_ = 0.3;
+  bool need_start_ = true;
+  bool need_configure_ = true;
+  int consecutive_failures_ = 0;
+  ros::WallTime last_ok_;
+  std::atomic<bool> answering_{false};
+  bool was_answering_ = false;
+  std::atomic<unsigned long> refused_{0};
+  transport::BusState last_bus_state_ = transport::BusState::kErrorActive;
+  std::mutex status_mutex_;  // node counters copied for diagnostics/state
+  CanNodeStatus status_copy_;
+};
+
+}  // namespace hcl_drivers

@@ -1,0 +1,249 @@
+#include "canopen_firmware.h"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace robot_sim {
+
+using hcl_drivers::transport::CanFilter;
+
+namespace {
+// linux/can/error.h error classes, written here from the kernel header's values.
+constexpr uint32_t kErrBusOff = 0x040;
+constexpr uint32_t kErrRestarted = 0x100;
+constexpr uint8_t kBootUp = 0x00, kStopped = 0x04, kOperational = 0x05, kPreOperational = 0x7F;
+const char* nmtName(uint8_t s) {
+  switch (s) {
+    case kBootUp: return "boot-up";
+    case kStopped: return "stopped";
+    case kOperational: return "operational";
+    case kPreOperational: return "pre-operational";
+  }
+  return "?";
+}
+}  // namespace
+
+CanopenFirmware::~CanopenFirmware() { stop(); }
+
+double CanopenFirmware::now() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void CanopenFirmware::start(FirmwareContext& ctx) {
+  name_ = ctx.name;
+  std::string url;
+  if (!ctx.pnh.getParam("bus", url))
+    throw std::runtime_error("parameter " + ctx.pnh.resolveName("bus") + " missing: socketcan://IFACE or udp://127.0.0.1:PORT");
+  int node = 0;
+  if (!ctx.pnh.getParam("node_id", node) || node < 1 || node > 127)
+    throw std::runtime_error("parameter " + ctx.pnh.resolveName("node_id") + ": required, 1..127");
+  node_id_ = static_cast<uint8_t>(node);
+  world_ = ctx.world;
+  if (!world_) {
+    double tps = 4000.0, range = 0.35;
+    ctx.pnh.param("bench_ticks_per_s", tps, tps);
+    ctx.pnh.param("bench_range", range, range);
+    bench_world_ = std::make_unique<BenchWorld>(tps, range);
+    world_ = bench_world_.get();
+  }
+  // Common object dictionary entries (CiA 301).
+  addObject(0x1000, 0, {4, [] { return 0x00000000u; }, nullptr});        // device type: none
+  addObject(0x1001, 0, {1, [] { return 0u; }, nullptr});                 // error register
+  addObject(0x1017, 0, {2, [this] { return static_cast<uint32_t>(heartbeat_ms_); },
+                        [this](uint32_t v) { heartbeat_ms_ = static_cast<uint16_t>(v); return true; }});
+  addObject(0x1018, 1, {4, [] { return 0x0000ED09u; }, nullptr});        // vendor id
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    setupBoard(ctx);
+  }
+  try {
+    bus_ = hcl_drivers::transport::openCanBus(url);
+    // NMT commands (id 0) and every COB-ID of this node (id & 0x7F == node).
+    std::vector<CanFilter> filters{CanFilter{0x000, 0x7FF, false}, CanFilter{node_id_, 0x07F, false}};
+    for (uint32_t id : extra_cob_ids_) filters.push_back(CanFilter{id, 0x7FF, false});
+    channel_ = bus_->open(filters);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot open CAN bus " + url + ": " + e.what());
+  }
+  truth_pub_ = ctx.nh.advertise<CanFirmware>("/sim/" + name_ + "/firmware", 5);
+  truth_timer_ = ctx.nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { publishTruth(); });
+  running_ = true;
+  thread_ = std::thread([this] { run(); });
+}
+
+void CanopenFirmware::stop() {
+  running_ = false;
+  if (thread_.joinable()) thread_.join();
+  truth_timer_.stop();
+  channel_.reset();
+  bus_.reset();
+}
+
+bool CanopenFirmware::applyFault(const std::string& kind, bool active) {
+  if (kind == "can_bus_off") {
+    if (active == bus_off_) return true;
+    bus_off_ = active;
+    CanFrame e;
+    e.error = true;
+    e.dlc = 8;
+    e.id = active ? kErrBusOff : kErrRestarted;
+    if (channel_) channel_->send(e);
+    return true;
+  }
+  if (kind == "can_reset") {
+    if (active) reset_pending_ = true;
+    return true;
+  }
+  if (kind == "can_malformed") {
+    if (active) malformed_pending_ = true;
+    return true;
+  }
+  if (boardFault(kind, active)) return true;
+  return Firmware::applyFault(kind, active);
+}
+
+void CanopenFirmware::send(const CanFrame& f) {
+  if (silent() || bus_off_) return;
+  channel_->send(f);
+}
+
+void CanopenFirmware::powerCycle() {
+  resetBoard();
+  heartbeat_ms_ = 0;
+  nmt_state_ = kPreOperational;
+  ++resets_;
+  send(CanFrame::make(0x700 + node_id_, {kBootUp}));
+}
+
+void CanopenFirmware::run() {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    resetBoard();
+    nmt_state_ = kPreOperational;
+    send(CanFrame::make(0x700 + node_id_, {kBootUp}));
+  }
+  double next_tick = now();
+  CanFrame f;
+  while (running_) {
+    const double wait = next_tick - now();
+    if (channel_->receive(f, wait > 0 ? wait : 0.0)) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      if (!silent() && !bus_off_) handle(f);
+    }
+    const double t = now();
+    if (t < next_tick) continue;
+    next_tick = t + 0.005;
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (reset_pending_.exchange(false)) powerCycle();
+    if (malformed_pending_.exchange(false)) {
+      send(CanFrame::make(0x180 + node_id_, {0xDE, 0xAD, 0xBE}));  // a TPDO with the wrong length
+      send(CanFrame::make(0x480 + node_id_, {0x01}));              // TPDO4: not in the driver's map
+    }
+    tick(t);
+    if (heartbeat_ms_ > 0 && t >= next_heartbeat_) {
+      send(CanFrame::make(0x700 + node_id_, {nmt_state_}));
+      next_heartbeat_ = t + heartbeat_ms_ / 1000.0;
+    }
+  }
+}
+
+void CanopenFirmware::handle(const CanFrame& f) {
+  if (f.extended || f.error) return;
+  if (f.id == 0x000) {  // NMT: [command, node (0 = all)]
+    if (f.rtr || f.dlc != 2 || (f.data[1] != 0 && f.data[1] != node_id_)) return;
+    ++rx_;
+    switch (f.data[0]) {
+      case 0x01: nmt_state_ = kOperational; break;
+      case 0x02: nmt_state_ = kStopped; break;
+      case 0x80: nmt_state_ = kPreOperational; break;
+      case 0x81: powerCycle(); break;                                       // reset node
+      case 0x82: nmt_state_ = kPreOperational; send(CanFrame::make(0x700 + node_id_, {kBootUp})); break;
+      default: ++malformed_; break;
+    }
+    return;
+  }
+  bool extra = false;
+  for (uint32_t id : extra_cob_ids_) extra = extra || id == f.id;
+  if ((f.id & 0x7F) != node_id_ && !extra) return;
+  const uint32_t fn = f.id & 0x780;
+  if (!extra && (fn == 0x700 || fn == 0x580 || fn == 0x080)) return;  // frames this node sends itself
+  ++rx_;
+  if (!extra && fn == 0x600) {
+    if (nmt_state_ == kStopped) return;
+    if (f.rtr || f.dlc != 8) {
+      ++malformed_;
+      return;
+    }
+    handleSdo(f);
+    return;
+  }
+  if (nmt_state_ != kOperational) return;  // PDOs only in operational
+  if (f.rtr) {
+    CanFrame out;
+    if (onRtr(f.id, out)) {
+      ++rtr_;
+      send(out);
+    }
+    return;
+  }
+  const RxResult r = onRpdo(f);
+  if (r == RxResult::kMalformed) ++malformed_;
+}
+
+void CanopenFirmware::sdoAbort(uint16_t index, uint8_t sub, uint32_t code) {
+  ++aborts_;
+  CanFrame a = CanFrame::make(0x580 + node_id_, {0x80, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), sub, 0, 0, 0, 0});
+  put32(a, 4, code);
+  send(a);
+}
+
+void CanopenFirmware::handleSdo(const CanFrame& f) {
+  const uint8_t cmd = f.data[0];
+  const uint16_t index = get16(f, 1);
+  const uint8_t sub = f.data[3];
+  const uint8_t ccs = cmd >> 5;
+  if (ccs != 1 && ccs != 2) return sdoAbort(index, sub, 0x05040001);  // command specifier unknown
+  auto it = od_.find((static_cast<uint32_t>(index) << 8) | sub);
+  if (it == od_.end()) {
+    bool index_known = false;
+    for (const auto& kv : od_)
+      if ((kv.first >> 8) == index) index_known = true;
+    return sdoAbort(index, sub, index_known ? 0x06090011 : 0x06020000);
+  }
+  Object& o = it->second;
+  if (ccs == 2) {  // upload (read)
+    const uint32_t v = o.read();
+    CanFrame r = CanFrame::make(0x580 + node_id_, {static_cast<uint8_t>(0x43 | ((4 - o.size) << 2)), f.data[1], f.data[2], sub, 0, 0, 0, 0});
+    put32(r, 4, o.size == 4 ? v : (v & ((1u << (8 * o.size)) - 1)));
+    send(r);
+    return;
+  }
+  // download (write): expedited only
+  if (!(cmd & 0x02)) return sdoAbort(index, sub, 0x05040001);
+  if (!o.write) return sdoAbort(index, sub, 0x06010002);
+  if ((cmd & 0x01) && 4 - ((cmd >> 2) & 3) != o.size) return sdoAbort(index, sub, 0x06070010);
+  const uint32_t value = o.size == 4 ? get32(f, 4) : (get32(f, 4) & ((1u << (8 * o.size)) - 1));
+  if (!o.write(value)) return sdoAbort(index, sub, 0x06090030);
+  send(CanFrame::make(0x580 + node_id_, {0x60, f.data[1], f.data[2], sub, 0, 0, 0, 0}));
+}
+
+void CanopenFirmware::publishTruth() {
+  CanFirmware m;
+  m.header.stamp = ros::Time::now();
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    m.node_id = node_id_;
+    m.nmt_state = nmtName(nmt_state_);
+    m.rx_frames = static_cast<uint32_t>(rx_);
+    m.rtr_answered = static_cast<uint32_t>(rtr_);
+    m.malformed = static_cast<uint32_t>(malformed_);
+    m.sdo_aborts = static_cast<uint32_t>(aborts_);
+    m.resets = static_cast<uint32_t>(resets_);
+    truth(m);
+  }
+  m.silent = silent();
+  m.bus_off = bus_off_;
+  truth_pub_.publish(m);
+}
+
+}  // namespace robot_sim
