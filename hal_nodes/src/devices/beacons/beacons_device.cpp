@@ -1,0 +1,195 @@
+// Beacons: the beacon receiver's raw times of flight (hcl_drivers/BeaconDelta events: one per
+// beacon transmit slot, so they are queued, not sampled) become distances with variance,
+// published as hal_nodes/BeaconRange on ~ranges (/hal/beacons/ranges). The equation
+// (beacon_equation.h) can be changed while running (~set_equation) and fitted from
+// externally measured distances (~fit_equation, least squares); the current values are
+// mirrored into the ~temperature, ~scale, ~offset, ~beacon_offsets parameters.
+// Distances outside [~min_range, ~max_range] are outliers (no line of sight, echoes): dropped
+// and counted.
+//
+// Parameters (besides ~rate):
+//   ~delta           input topic (required, /hcl/<board>/delta)
+//   ~temperature [degC] (default 20), ~scale (default 1), ~offset [m] (default 0),
+//   ~beacon_offsets  [m] list per beacon id (default [])
+//   ~range_noise     [m] std independent of the distance (default 0.02)
+//   ~range_noise_relative   std per metre of distance (default 0.01)
+//   ~min_range, ~max_range  [m] (default 0.05, 4.0)
+//   ~frame_id        the receiver's frame (default beacon_receiver)
+//   ~max_input_age   [s] no delta for longer: unavailable (default 1.0)
+#include <hal_nodes/BeaconRange.h>
+#include <hal_nodes/FitBeaconEquation.h>
+#include <hal_nodes/SetBeaconEquation.h>
+#include <hcl_drivers/BeaconDelta.h>
+
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <mutex>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/beacons/beacon_equation.h"
+#include "hal_nodes/devices/config_blocks.h"
+
+namespace hal_nodes {
+
+class BeaconsDevice : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    pnh_ = ctx.pnh;
+    BeaconEquation eq;
+    eq.temperature = optionalDouble(ctx.pnh, "temperature", 20.0);
+    requireInRange(ctx.pnh, "temperature", eq.temperature, -40.0, 80.0);
+    eq.scale = optionalDouble(ctx.pnh, "scale", 1.0);
+    requireInRange(ctx.pnh, "scale", eq.scale, 0.5, 2.0);
+    eq.offset = optionalDouble(ctx.pnh, "offset", 0.0);
+    requireInRange(ctx.pnh, "offset", eq.offset, -1.0, 1.0);
+    eq.beacon_offsets = optionalDoubleList(ctx.pnh, "beacon_offsets", {});
+    equation_ = eq;
+    noise_ = optionalDouble(ctx.pnh, "range_noise", 0.02);
+    requirePositive(ctx.pnh, "range_noise", noise_);
+    noise_rel_ = optionalDouble(ctx.pnh, "range_noise_relative", 0.01);
+    requireInRange(ctx.pnh, "range_noise_relative", noise_rel_, 0.0, 1.0);
+    min_range_ = optionalDouble(ctx.pnh, "min_range", 0.05);
+    max_range_ = optionalDouble(ctx.pnh, "max_range", 4.0);
+    requireInRange(ctx.pnh, "min_range", min_range_, 0.0, 10.0);
+    requireInRange(ctx.pnh, "max_range", max_range_, min_range_ + 1e-3, 20.0);
+    frame_id_ = optionalString(ctx.pnh, "frame_id", "beacon_receiver");
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 1.0);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    const std::string topic = requireString(ctx.pnh, "delta");
+    latest_ = addInput<BeaconDelta>(ctx.nh, topic, "delta");  // for its age on /diagnostics
+    events_sub_ = ctx.nh.subscribe<BeaconDelta>(topic, 100, [this](const BeaconDelta::ConstPtr& m) {
+      std::lock_guard<std::mutex> lk(queue_mutex_);
+      queue_.push_back(m);
+      if (queue_.size() > 200) {  // refresh stalled: keep the newest, count the rest
+        queue_.pop_front();
+        ++overflow_;
+      }
+    });
+    pub_ = ctx.pnh.advertise<BeaconRange>("ranges", 50);
+    set_srv_ = ctx.pnh.advertiseService("set_equation", &BeaconsDevice::onSet, this);
+    fit_srv_ = ctx.pnh.advertiseService("fit_equation", &BeaconsDevice::onFit, this);
+    mirror(eq);
+  }
+
+  void refresh() override {
+    std::deque<hcl_drivers::BeaconDelta::ConstPtr> batch;
+    {
+      std::lock_guard<std::mutex> lk(queue_mutex_);
+      batch.swap(queue_);
+    }
+    BeaconEquation eq;
+    {
+      std::lock_guard<std::mutex> lk(eq_mutex_);
+      eq = equation_;
+    }
+    for (const auto& m : batch) {
+      const double d = eq.distance(m->beacon_id, 1e-6 * m->delta_us);
+      if (!std::isfinite(d) || d < min_range_ || d > max_range_) {
+        ++outliers_;
+        continue;
+      }
+      BeaconRange r;
+      r.header.stamp = m->header.stamp;
+      r.header.frame_id = frame_id_;
+      r.beacon_id = m->beacon_id;
+      r.range = d;
+      const double sd = noise_ + noise_rel_ * d;
+      r.variance = sd * sd;
+      pub_.publish(r);
+      ++published_;
+    }
+    if (latest_->age() > max_input_age_)
+      setUnavailable("no beacon delta for " + std::to_string(latest_->age()) + " s (receiver silent or beacons off)");
+    else
+      setAvailable();
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    std::lock_guard<std::mutex> lk(eq_mutex_);
+    stat.add("ranges published", published_.load());
+    stat.add("outliers dropped", outliers_.load());
+    stat.add("queue overflows", overflow_.load());
+    stat.addf("equation", "%.5f * c(%.1f degC) * delta %+.4f m", equation_.scale, equation_.temperature, equation_.offset);
+  }
+
+ private:
+  bool onSet(SetBeaconEquation::Request& req, SetBeaconEquation::Response& res) {
+    if (!std::isfinite(req.temperature) || req.temperature < -40 || req.temperature > 80 || !(req.scale > 0.5 && req.scale < 2.0) ||
+        !std::isfinite(req.offset) || std::abs(req.offset) > 1.0) {
+      res.success = false;
+      res.message = "rejected: temperature must be -40..80 degC, scale 0.5..2, |offset| <= 1 m";
+      return true;
+    }
+    BeaconEquation eq;
+    {
+      std::lock_guard<std::mutex> lk(eq_mutex_);
+      equation_.temperature = req.temperature;
+      equation_.scale = req.scale;
+      equation_.offset = req.offset;
+      if (!req.beacon_offsets.empty()) equation_.beacon_offsets = req.beacon_offsets;
+      eq = equation_;
+    }
+    mirror(eq);
+    res.success = true;
+    res.message = "equation set";
+    ROS_INFO("beacons: equation set: scale %.5f, temperature %.1f degC, offset %.4f m", eq.scale, eq.temperature, eq.offset);
+    return true;
+  }
+
+  bool onFit(FitBeaconEquation::Request& req, FitBeaconEquation::Response& res) {
+    std::vector<double> delta_s;
+    for (double us : req.delta_us) delta_s.push_back(1e-6 * us);
+    std::vector<int> ids(req.beacon_id.begin(), req.beacon_id.end());
+    BeaconEquation eq;
+    {
+      std::lock_guard<std::mutex> lk(eq_mutex_);
+      eq = equation_;
+    }
+    const LineFit f = fitEquation(eq, delta_s, req.distance, ids);
+    res.success = f.ok;
+    if (!f.ok) {
+      res.message = "fit failed: " + f.why;
+      return true;
+    }
+    res.scale = eq.scale;
+    res.offset = eq.offset;
+    res.rms_residual = f.rms;
+    res.message = req.apply ? "fitted and applied" : "fitted (not applied)";
+    if (req.apply) {
+      {
+        std::lock_guard<std::mutex> lk(eq_mutex_);
+        equation_.scale = eq.scale;
+        equation_.offset = eq.offset;
+      }
+      mirror(eq);
+      ROS_INFO("beacons: fitted equation applied: scale %.5f, offset %.4f m, rms %.4f m", eq.scale, eq.offset, f.rms);
+    }
+    return true;
+  }
+
+  void mirror(const BeaconEquation& eq) {
+    pnh_.setParam("temperature", eq.temperature);
+    pnh_.setParam("scale", eq.scale);
+    pnh_.setParam("offset", eq.offset);
+    pnh_.setParam("beacon_offsets", eq.beacon_offsets);
+  }
+
+  ros::NodeHandle pnh_;
+  std::mutex eq_mutex_;
+  BeaconEquation equation_;
+  std::mutex queue_mutex_;
+  std::deque<hcl_drivers::BeaconDelta::ConstPtr> queue_;
+  std::shared_ptr<LatestValue<hcl_drivers::BeaconDelta>> latest_;
+  ros::Subscriber events_sub_;
+  ros::Publisher pub_;
+  ros::ServiceServer set_srv_, fit_srv_;
+  std::string frame_id_;
+  double noise_ = 0.02, noise_rel_ = 0.01, min_range_ = 0.05, max_range_ = 4.0, max_input_age_ = 1.0;
+  std::atomic<unsigned long> published_{0}, outliers_{0}, overflow_{0};
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(BeaconsDevice)

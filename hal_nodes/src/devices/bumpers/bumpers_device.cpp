@@ -1,0 +1,99 @@
+// Bumpers: named contacts (bumpers, end switches the brain cares about) read from one or
+// more boards' hcl_drivers/DigitalInputs, published as hal_nodes/Contacts on ~contacts
+// (/hal/bumpers/contacts) at the device rate, with the edges since the previous message.
+// A contact is found by the board's input name (`input`) or by its bit number (`bit`).
+// While a board is stale its contacts are unknown: they are left out of `closed`, no edges
+// are invented, and the device is unavailable naming the board.
+//
+// Parameters (besides ~rate):
+//   ~max_input_age  [s] (default 0.5)
+//   ~contacts/<name>/
+//       topic   the board's inputs topic (/hcl/<board>/inputs), required
+//       input   the board's input name   | bit   its bit number 0..31  (one of the two)
+//       invert  true for a normally-closed switch (default false)
+#include <hal_nodes/Contacts.h>
+#include <hcl_drivers/DigitalInputs.h>
+
+#include <algorithm>
+#include <map>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+
+namespace hal_nodes {
+
+class BumpersDevice : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    for (const auto& name : requireBlockNames(ctx.pnh, "contacts")) {
+      ros::NodeHandle p(ctx.pnh, "contacts/" + name);
+      Contact c;
+      c.name = name;
+      const std::string topic = requireString(p, "topic");
+      if (!boards_.count(topic)) boards_[topic] = addInput<DigitalInputs>(ctx.nh, topic, topic);
+      c.board = topic;
+      c.input = optionalString(p, "input", "");
+      c.bit = optionalInt(p, "bit", -1);
+      if (c.input.empty() == (c.bit < 0))
+        throw ParameterError("parameter " + qualified(p, "input") + " / " + qualified(p, "bit") +
+                             ": give exactly one (the input's name, or its bit 0..31)");
+      if (c.bit > 31) throw ParameterError("parameter " + qualified(p, "bit") + " = " + std::to_string(c.bit) + ": must be 0..31");
+      c.invert = optionalBool(p, "invert", false);
+      contacts_.push_back(std::move(c));
+    }
+    pub_ = ctx.pnh.advertise<Contacts>("contacts", 10);
+  }
+
+  void refresh() override {
+    Contacts out;
+    out.header.stamp = ros::Time::now();
+    std::string stale;
+    for (auto& [topic, input] : boards_)
+      if (!input->fresh(max_input_age_)) stale += (stale.empty() ? "" : ", ") + topic;
+    for (auto& c : contacts_) {
+      const auto m = boards_[c.board]->fresh(max_input_age_);
+      if (!m) {
+        c.known = false;
+        continue;
+      }
+      int bit = c.bit;
+      if (!c.input.empty()) {
+        const auto it = std::find(m->names.begin(), m->names.end(), c.input);
+        if (it == m->names.end()) {
+          c.known = false;
+          stale += (stale.empty() ? "" : ", ") + ("input '" + c.input + "' not reported by " + c.board);
+          continue;
+        }
+        bit = static_cast<int>(it - m->names.begin());
+      }
+      const bool closed = (((m->bits >> bit) & 1u) != 0) != c.invert;
+      if (closed) out.closed.push_back(c.name);
+      if (c.known && closed && !c.closed) out.pressed.push_back(c.name);
+      if (c.known && !closed && c.closed) out.released.push_back(c.name);
+      c.closed = closed;
+      c.known = true;
+    }
+    if (stale.empty()) setAvailable();
+    else setUnavailable("no fresh inputs from: " + stale);
+    pub_.publish(out);
+  }
+
+ private:
+  struct Contact {
+    std::string name, board, input;
+    int bit = -1;
+    bool invert = false;
+    bool known = false, closed = false;
+  };
+  std::map<std::string, std::shared_ptr<LatestValue<hcl_drivers::DigitalInputs>>> boards_;
+  std::vector<Contact> contacts_;
+  ros::Publisher pub_;
+  double max_input_age_ = 0.5;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(BumpersDevice)

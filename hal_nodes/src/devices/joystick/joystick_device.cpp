@@ -1,0 +1,108 @@
+// Joystick: a hardware-independent gamepad. The board's sensor_msgs/Joy (/hcl/<board>/joy,
+// indices of one particular pad) becomes named axes and buttons from config, published as
+// hal_nodes/JoystickState on ~state, and every button edge as hal_nodes/JoystickEvent on
+// ~events (/hal/joystick/events) that the brain registers callbacks on. Axes get a dead zone
+// (rescaled so the output stays continuous) and optional inversion.
+// When the pad goes stale every held button is released (an event each) and the axes read
+// 0: a dead-man button held when the cable came out must not stay held.
+// The device samples the pad at ~rate: a tap shorter than one period can be missed, so run
+// it at the board's rate (50 Hz is plenty for a hand).
+//
+// Parameters (besides ~rate):
+//   ~joy            input topic (required, /hcl/<board>/joy)
+//   ~axes           name: index   (required, at least one axis or button overall)
+//   ~buttons        name: index
+//   ~inverted_axes  list of axis names whose sign flips (default [])
+//   ~dead_zone      0..0.9 (default 0.05)
+//   ~max_input_age  [s] (default 0.5)
+#include <hal_nodes/JoystickEvent.h>
+#include <hal_nodes/JoystickState.h>
+#include <sensor_msgs/Joy.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+
+namespace hal_nodes {
+
+class JoystickDevice : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    axes_ = optionalIntMap(ctx.pnh, "axes");
+    buttons_ = optionalIntMap(ctx.pnh, "buttons");
+    if (axes_.empty() && buttons_.empty())
+      throw ParameterError("parameters " + qualified(ctx.pnh, "axes") + " / " + qualified(ctx.pnh, "buttons") +
+                           ": name at least one axis or button (name: index)");
+    const auto inverted = optionalStringList(ctx.pnh, "inverted_axes", {});
+    for (const auto& n : inverted) {
+      if (std::none_of(axes_.begin(), axes_.end(), [&](const auto& a) { return a.first == n; }))
+        throw ParameterError("parameter " + qualified(ctx.pnh, "inverted_axes") + ": '" + n + "' is not one of ~axes");
+    }
+    for (const auto& a : axes_) invert_.push_back(std::find(inverted.begin(), inverted.end(), a.first) != inverted.end());
+    dead_zone_ = optionalDouble(ctx.pnh, "dead_zone", 0.05);
+    requireInRange(ctx.pnh, "dead_zone", dead_zone_, 0.0, 0.9);
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    held_.assign(buttons_.size(), false);
+    joy_ = addInput<sensor_msgs::Joy>(ctx.nh, requireString(ctx.pnh, "joy"), "joy");
+    state_pub_ = ctx.pnh.advertise<JoystickState>("state", 1);
+    event_pub_ = ctx.pnh.advertise<JoystickEvent>("events", 50);
+  }
+
+  void refresh() override {
+    const auto joy = joy_->fresh(max_input_age_);
+    JoystickState s;
+    s.header.stamp = joy ? joy->header.stamp : ros::Time::now();
+    for (const auto& a : axes_) s.axis_names.push_back(a.first);
+    for (const auto& b : buttons_) s.button_names.push_back(b.first);
+    std::string missing;
+    for (std::size_t i = 0; i < axes_.size(); ++i) {
+      double v = 0.0;
+      if (joy && axes_[i].second < static_cast<int>(joy->axes.size())) v = shape(joy->axes[axes_[i].second]) * (invert_[i] ? -1 : 1);
+      else if (joy) missing += " axis " + axes_[i].first;
+      s.axes.push_back(v);
+    }
+    for (std::size_t i = 0; i < buttons_.size(); ++i) {
+      bool pressed = false;
+      if (joy && buttons_[i].second < static_cast<int>(joy->buttons.size())) pressed = joy->buttons[buttons_[i].second] != 0;
+      else if (joy) missing += " button " + buttons_[i].first;
+      s.buttons.push_back(pressed);
+      if (pressed != held_[i]) {
+        JoystickEvent e;
+        e.header.stamp = s.header.stamp;
+        e.button = buttons_[i].first;
+        e.pressed = pressed;
+        event_pub_.publish(e);
+        held_[i] = pressed;
+      }
+    }
+    if (!joy) {
+      setUnavailable("no fresh joystick state (age " + std::to_string(joy_->age()) + " s): buttons released, axes 0");
+      return;
+    }
+    if (!missing.empty()) setUnavailable("the pad does not have the configured" + missing);
+    else setAvailable();
+    state_pub_.publish(s);
+  }
+
+ private:
+  double shape(double v) const {
+    if (!std::isfinite(v)) return 0.0;
+    v = std::clamp(v, -1.0, 1.0);
+    if (std::abs(v) <= dead_zone_) return 0.0;
+    return std::copysign((std::abs(v) - dead_zone_) / (1.0 - dead_zone_), v);
+  }
+
+  std::vector<std::pair<std::string, int>> axes_, buttons_;
+  std::vector<bool> invert_, held_;
+  std::shared_ptr<LatestValue<sensor_msgs::Joy>> joy_;
+  ros::Publisher state_pub_, event_pub_;
+  double dead_zone_ = 0.05, max_input_age_ = 0.5;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(JoystickDevice)

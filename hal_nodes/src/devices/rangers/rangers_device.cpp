@@ -1,0 +1,110 @@
+// Rangers: every distance sensor of the robot (SRF02 ultrasound, SHARP infrared), each read
+// from its board as sensor_msgs/Range and published filtered on ~<name>
+// (/hal/rangers/<name>) in the ranger's URDF frame. The filter (range_filter.h) removes
+// nonsense values, peaks and noise; only new board readings enter it. A stale ranger
+// publishes nothing and is named in the unavailability reason.
+//
+// Parameters (besides ~rate):
+//   ~max_input_age  [s] (default 0.5)
+//   ~window, ~smoothing, ~step   filter defaults for all rangers (5, 0.5, 0.10 m)
+//   ~rangers/<name>/
+//       topic       the board's Range topic (/hcl/<board>/range/<name>), required
+//       frame_id    output frame (default: the board message's frame_id)
+//       min_range, max_range  [m] override the board's limits (default: the message's)
+//       window, smoothing, step  per-ranger filter settings
+#include <sensor_msgs/Range.h>
+
+#include <cmath>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+#include "hal_nodes/devices/rangers/range_filter.h"
+
+namespace hal_nodes {
+
+class RangersDevice : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    const RangeFilterConfig defaults = readFilter(ctx.pnh, RangeFilterConfig());
+    for (const auto& name : requireBlockNames(ctx.pnh, "rangers")) {
+      ros::NodeHandle p(ctx.pnh, "rangers/" + name);
+      Ranger r;
+      r.name = name;
+      r.filter = RangeFilter(readFilter(p, defaults));
+      r.frame_id = optionalString(p, "frame_id", "");
+      r.min_range = optionalDouble(p, "min_range", -1.0);
+      r.max_range = optionalDouble(p, "max_range", -1.0);
+      r.input = addInput<sensor_msgs::Range>(ctx.nh, requireString(p, "topic"), name);
+      r.pub = ctx.pnh.advertise<sensor_msgs::Range>(name, 5);
+      rangers_.push_back(std::move(r));
+    }
+  }
+
+  void refresh() override {
+    std::string stale;
+    for (auto& r : rangers_) {
+      const auto m = r.input->fresh(max_input_age_);
+      if (!m) {
+        if (r.filter.value()) r.filter.reset();  // do not mix old readings with new ones later
+        stale += (stale.empty() ? "" : ", ") + r.name;
+        continue;
+      }
+      if (m->header.stamp == r.last_stamp && !r.last_stamp.isZero()) continue;  // no new reading
+      r.last_stamp = m->header.stamp;
+      const double lo = r.min_range >= 0.0 ? r.min_range : m->min_range;
+      const double hi = r.max_range > 0.0 ? r.max_range : m->max_range;
+      const auto out = r.filter.add(m->range, lo, hi);
+      if (!out) continue;
+      sensor_msgs::Range o = *m;
+      if (!r.frame_id.empty()) o.header.frame_id = r.frame_id;
+      o.min_range = static_cast<float>(lo);
+      o.max_range = static_cast<float>(hi);
+      o.range = static_cast<float>(*out);
+      r.pub.publish(o);
+    }
+    if (stale.empty()) setAvailable();
+    else setUnavailable("no fresh readings from ranger(s): " + stale);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    for (const auto& r : rangers_) {
+      stat.add("ranger " + r.name + " nonsense readings dropped", r.filter.nonsense());
+      const auto v = r.filter.value();
+      stat.addf("ranger " + r.name + " range [m]", "%.3f", v ? *v : NAN);
+    }
+  }
+
+ private:
+  struct Ranger {
+    std::string name, frame_id;
+    double min_range = -1.0, max_range = -1.0;
+    RangeFilter filter;
+    std::shared_ptr<LatestValue<sensor_msgs::Range>> input;
+    ros::Publisher pub;
+    ros::Time last_stamp;
+  };
+
+  static RangeFilterConfig readFilter(const ros::NodeHandle& p, const RangeFilterConfig& d) {
+    using namespace hcl_drivers;
+    RangeFilterConfig c;
+    const int window = optionalInt(p, "window", static_cast<int>(d.window));
+    if (window < 1 || window % 2 == 0 || window > 51)
+      throw ParameterError("parameter " + qualified(p, "window") + " = " + std::to_string(window) + ": must be odd, 1..51");
+    c.window = static_cast<std::size_t>(window);
+    c.smoothing = optionalDouble(p, "smoothing", d.smoothing);
+    requireInRange(p, "smoothing", c.smoothing, 1e-3, 1.0);
+    c.step = optionalDouble(p, "step", d.step);
+    requirePositive(p, "step", c.step);
+    return c;
+  }
+
+  std::vector<Ranger> rangers_;
+  double max_input_age_ = 0.5;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(RangersDevice)

@@ -1,0 +1,81 @@
+// The rangers' filter: nonsense dropped, no-echo kept as +inf, peaks removed by the median,
+// noise reduced by smoothing, real steps passed without smoothing lag.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "hal_nodes/devices/rangers/range_filter.h"
+
+using namespace hal_nodes;
+
+namespace {
+constexpr double kMin = 0.15, kMax = 6.0;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+TEST(RangeFilter, NonsenseIsDroppedAndCounted) {
+  RangeFilter f;
+  RangeFilter::Verdict v;
+  EXPECT_FALSE(f.add(kNaN, kMin, kMax, &v));
+  EXPECT_EQ(v, RangeFilter::Verdict::kNonsense);
+  EXPECT_FALSE(f.add(-1.0, kMin, kMax));
+  EXPECT_FALSE(f.add(0.05, kMin, kMax));  // inside the blind zone
+  EXPECT_EQ(f.nonsense(), 3u);
+  ASSERT_TRUE(f.add(1.0, kMin, kMax));
+  EXPECT_DOUBLE_EQ(*f.add(kNaN, kMin, kMax), 1.0);  // output held, not disturbed
+  EXPECT_EQ(f.nonsense(), 4u);
+}
+
+TEST(RangeFilter, NoEchoBecomesInfinityOnlyWhenConsistent) {
+  RangeFilter f;
+  for (int i = 0; i < 5; ++i) f.add(1.0, kMin, kMax);
+  RangeFilter::Verdict v;
+  EXPECT_NEAR(*f.add(7.0, kMin, kMax, &v), 1.0, 1e-12);  // one missed echo: outvoted
+  EXPECT_EQ(v, RangeFilter::Verdict::kNoEcho);
+  f.add(kInf, kMin, kMax);
+  EXPECT_TRUE(std::isinf(*f.add(kMax, kMin, kMax)));  // third in a row: majority of 5
+}
+
+TEST(RangeFilter, PeakIsRemoved) {
+  RangeFilter f;
+  for (int i = 0; i < 5; ++i) f.add(2.0, kMin, kMax);
+  EXPECT_NEAR(*f.add(0.3, kMin, kMax), 2.0, 1e-12);  // cross-talk spike
+  EXPECT_NEAR(*f.add(2.0, kMin, kMax), 2.0, 1e-12);
+  EXPECT_NEAR(*f.add(0.3, kMin, kMax), 2.0, 1e-12);  // two spikes in five: still outvoted
+}
+
+TEST(RangeFilter, RealStepPassesWithinHalfTheWindowAndWithoutLag) {
+  RangeFilter f;
+  for (int i = 0; i < 5; ++i) f.add(2.0, kMin, kMax);
+  f.add(0.5, kMin, kMax);
+  f.add(0.5, kMin, kMax);
+  EXPECT_NEAR(*f.add(0.5, kMin, kMax), 0.5, 1e-12);  // 3 of 5: the obstacle is there, no smoothing lag
+}
+
+TEST(RangeFilter, NoiseIsReduced) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  RangeFilter f;
+  double raw_ss = 0.0, out_ss = 0.0;
+  const int n = 2000;
+  for (int i = 0; i < n; ++i) {
+    const double r = 1.0 + noise(rng);
+    const double out = *f.add(r, kMin, kMax);
+    if (i >= 10) {
+      raw_ss += (r - 1.0) * (r - 1.0);
+      out_ss += (out - 1.0) * (out - 1.0);
+    }
+  }
+  EXPECT_LT(out_ss, 0.5 * raw_ss);  // the output's variance is under half the raw one
+}
+
+TEST(RangeFilter, ResetForgetsOldReadings) {
+  RangeFilter f;
+  for (int i = 0; i < 5; ++i) f.add(2.0, kMin, kMax);
+  f.reset();
+  EXPECT_FALSE(f.value());
+  EXPECT_NEAR(*f.add(0.7, kMin, kMax), 0.7, 1e-12);
+}
