@@ -32,6 +32,8 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   can-utils iproute2 socat
 # product (issue 10): rviz and its headless test (Xvfb + screenshot), the match report's plots
 DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil
+# libFuzzer (clang) for the beacon parser fuzz test (issue 5)
+DEPS += clang libclang-rt-14-dev
 
 .PHONY: deps build run test bench lint clean report
 

@@ -1,0 +1,177 @@
+// The beacon receiver on RS-232 (message format: boards/beacon_protocol.h).
+//
+// The receiver talks on its own; a reader thread blocks in poll() on the port so every
+// message is stamped and published the moment its last byte arrives (the loop's service()
+// would add up to one period of latency). service() only supervises: reopens a port that
+// vanished and reports the board as answering while valid messages keep coming.
+//
+// Parameters (besides rate/loop):
+//   ~port             device path: /dev/ttyS0, /dev/ttyUSB0, or the emulator's pty link (required)
+//   ~baud             1200..921600 standard rates (default 9600)
+//   ~beacons          number of beacon ids reported in ~state (default 3, 1..10); messages for
+//                     other ids are counted and dropped
+//   ~silence_timeout  [s] no valid message for this long = not answering (default 1.0)
+// Topics: ~delta (hcl_drivers/BeaconDelta, every message, stamp = receive time of its last byte),
+//         ~state (hcl_drivers/BeaconReceiverState, latched, newest delta per beacon + counters).
+#include <hcl_drivers/BeaconDelta.h>
+#include <hcl_drivers/BeaconReceiverState.h>
+
+#include <atomic>
+#include <mutex>
+#include <thread>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/beacon_protocol.h"
+#include "hcl_drivers/transport/serial_port.h"
+
+namespace hcl_drivers {
+
+class BeaconReceiver : public Board {
+ public:
+  ~BeaconReceiver() override {
+    running_ = false;
+    if (reader_.joinable()) reader_.join();
+  }
+
+  void init(BoardContext& ctx) override {
+    const std::string port = requireString(ctx.pnh, "port");
+    const int baud = optionalInt(ctx.pnh, "baud", 9600);
+    if (transport::SerialPort::baudConstant(baud) == 0)
+      throw ParameterError("parameter " + qualified(ctx.pnh, "baud") + " = " + std::to_string(baud) +
+                           ": allowed values: " + transport::SerialPort::allowedBauds());
+    const int beacons = optionalInt(ctx.pnh, "beacons", 3);
+    requireInRange(ctx.pnh, "beacons", beacons, 1, 10);
+    silence_timeout_ = optionalDouble(ctx.pnh, "silence_timeout", 1.0);
+    requirePositive(ctx.pnh, "silence_timeout", silence_timeout_);
+    state_.delta_us.assign(beacons, 0);
+    state_.stamps.assign(beacons, ros::Time());
+    port_ = std::make_unique<transport::SerialPort>(port, baud);
+    delta_pub_ = ctx.pnh.advertise<BeaconDelta>("delta", 100);
+    state_pub_ = ctx.pnh.advertise<BeaconReceiverState>("state", 1, true);
+    running_ = true;
+    reader_ = std::thread([this] { readLoop(); });
+  }
+
+  bool service() override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (!open_) {
+      fail(port_error_.empty() ? "port not open yet" : port_error_);
+      return false;
+    }
+    if (last_valid_.isZero() || (ros::Time::now() - last_valid_).toSec() > silence_timeout_) {
+      fail("no valid message for " + std::to_string(silence_timeout_) + " s on " + port_->path());
+      return false;
+    }
+    return true;
+  }
+
+  void halt() override {}  // a receiver: nothing to make safe
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.add("port", port_->path());
+    stat.add("port open", open_ ? "yes" : "no");
+    stat.add("reopens", reopens_);
+    stat.add("valid messages", stats_.messages);
+    stat.add("garbage bytes", stats_.garbage_bytes);
+    stat.add("checksum errors", stats_.checksum_errors);
+    stat.add("malformed messages", stats_.malformed);
+    stat.add("unknown beacon ids", unknown_ids_);
+  }
+
+ private:
+  void readLoop() {
+    beacon_protocol::Parser parser;
+    std::vector<beacon_protocol::Message> msgs;
+    uint8_t buf[256];
+    bool was_open = false;
+    while (running_) {
+      std::string err;
+      if (!port_->isOpen()) {
+        if (!port_->open(err)) {
+          setPort(false, err);
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the device may come back
+          continue;
+        }
+        if (was_open) {
+          std::lock_guard<std::mutex> lk(mutex_);
+          ++reopens_;
+        }
+        was_open = true;
+        parser = beacon_protocol::Parser();  // half a message from before is garbage now
+        setPort(true, "");
+      }
+      const long n = port_->read(buf, sizeof(buf), 0.1, err);
+      if (n < 0) {
+        setPort(false, err);
+        continue;
+      }
+      if (n == 0) continue;
+      const ros::Time stamp = ros::Time::now();  // the chunk's last byte just arrived
+      msgs.clear();
+      const auto before = parser.stats();
+      parser.feed(buf, static_cast<std::size_t>(n), msgs);
+      publish(msgs, stamp, parser.stats(), before);
+    }
+  }
+
+  void setPort(bool open, const std::string& err) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    open_ = open;
+    if (!err.empty()) port_error_ = err;
+  }
+
+  void publish(const std::vector<beacon_protocol::Message>& msgs, const ros::Time& stamp,
+               const beacon_protocol::Stats& now, const beacon_protocol::Stats& before) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    // Parser stats restart with the parser at each reopen: accumulate the increments.
+    stats_.messages += now.messages - before.messages;
+    stats_.garbage_bytes += now.garbage_bytes - before.garbage_bytes;
+    stats_.checksum_errors += now.checksum_errors - before.checksum_errors;
+    stats_.malformed += now.malformed - before.malformed;
+    bool changed = now.garbage_bytes != before.garbage_bytes || now.malformed != before.malformed ||
+                   now.checksum_errors != before.checksum_errors;
+    for (const auto& m : msgs) {
+      if (m.beacon_id >= state_.delta_us.size()) {
+        ++unknown_ids_;
+        continue;
+      }
+      BeaconDelta::Ptr d(new BeaconDelta);
+      d->header.stamp = stamp;
+      d->beacon_id = m.beacon_id;
+      d->delta_us = m.delta_us;
+      delta_pub_.publish(d);
+      state_.delta_us[m.beacon_id] = m.delta_us;
+      state_.stamps[m.beacon_id] = stamp;
+      state_.last_beacon_id = m.beacon_id;
+      state_.header.stamp = stamp;
+      last_valid_ = stamp;
+      changed = true;
+    }
+    if (!changed) return;
+    state_.messages = stats_.messages;
+    state_.garbage_bytes = stats_.garbage_bytes;
+    state_.checksum_errors = stats_.checksum_errors;
+    state_.malformed = stats_.malformed;
+    state_.port_open = open_;
+    state_pub_.publish(state_);
+  }
+
+  std::unique_ptr<transport::SerialPort> port_;  // used by the reader thread only
+  double silence_timeout_ = 1.0;
+  ros::Publisher delta_pub_, state_pub_;
+  std::atomic<bool> running_{false};
+  std::thread reader_;
+
+  std::mutex mutex_;  // reader thread vs loop vs diagnostics
+  bool open_ = false;
+  std::string port_error_;
+  ros::Time last_valid_;
+  beacon_protocol::Stats stats_;
+  unsigned long unknown_ids_ = 0, reopens_ = 0;
+  BeaconReceiverState state_;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(BeaconReceiver)
