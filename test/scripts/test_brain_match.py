@@ -108,6 +108,17 @@ class BrainMatchTest(unittest.TestCase):
         assert ok, 'the brain never reported waiting_for_start: %s' % cls.match.latest()
         assert wait_for(lambda: cls.deactivated.latest() is not None, 30.0, 0.1), 'hal_node not up'
 
+    def test_0_a_missing_device_or_strategy_stops_the_brain_with_one_clear_line(self):
+        for args, expect in ((['_strategy:=homologation', '_device_timeout:=1'], '/hal/driver'),
+                             (['_strategy:=no_such_strategy'], 'allowed values:')):
+            out = subprocess.run(['rosrun', 'smart_brain', 'brain', '__name:=brain_bad'] + args,
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=30)
+            text = out.stdout.decode()
+            self.assertEqual(out.returncode, 2, text)
+            fatal = [line for line in text.splitlines() if 'FATAL' in line]
+            self.assertEqual(len(fatal), 1, text)
+            self.assertIn(expect, fatal[0])
+
     def test_match(self):
         # 1. Nothing moves before the start signal.
         time.sleep(1.0)

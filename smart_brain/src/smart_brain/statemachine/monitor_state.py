@@ -34,11 +34,12 @@ class MonitorState(State):
         self._verdict = None
         self._checks = 0
         self._ud = None
+        self._active = False
         self._error = None
 
     def _on_msg(self, msg):
         with self._lock:
-            if self._verdict is not None or self._ud is None:
+            if self._verdict is not None or not self._active:
                 return
             try:
                 keep = self._cond_cb(self._ud, msg)
@@ -56,14 +57,14 @@ class MonitorState(State):
 
     def execute(self, ud):
         with self._lock:
-            self._verdict, self._checks, self._ud, self._error = None, 0, ud, None
+            self._verdict, self._checks, self._ud, self._error, self._active = None, 0, ud, None, True
         sub = self._subscribe(self.topic, self._msg_type, self._on_msg)
         try:
             waited = self.wait(self.timeout, predicate=lambda: self._verdict is not None)
         finally:
             sub.unregister()
             with self._lock:
-                self._ud = None
+                self._ud, self._active = None, False
         if self._error is not None:
             raise self._error
         if waited == 'preempted':
