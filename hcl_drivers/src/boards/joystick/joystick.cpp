@@ -1,0 +1,149 @@
+// A USB joystick through the Linux joystick API (boards/js_event.h).
+//
+// service() (at ~rate) drains the device's js_events; the stick's state is published on
+// ~joy as sensor_msgs/Joy at once when it changed and at least every 1/~publish_rate
+// otherwise. Unplugged (ENODEV, or the sim FIFO's writer gone): the axes and buttons are
+// published centred/released once (a vanished stick must not keep a button pressed), the
+// board reports the error on /diagnostics and the device is reopened every ~reopen_period
+// until it is back; the init events the kernel sends on open restore the true state.
+//
+// Parameters (besides rate/loop):
+//   ~device          /dev/input/js0, or the simulator's FIFO (required)
+//   ~deadzone        0..0.9 of full travel (default 0.05)
+//   ~publish_rate    [Hz] repeat rate when nothing changes (default 10, <= rate)
+//   ~reopen_period   [s] (default 0.5)
+//   ~frame_id        Joy header frame (default "")
+// Topics: ~joy (sensor_msgs/Joy), ~state (hcl_drivers/JoystickState, latched, raw mirror).
+#include <hcl_drivers/JoystickState.h>
+#include <sensor_msgs/Joy.h>
+
+#include <mutex>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/boards/js_event.h"
+#include "hcl_drivers/transport/joystick_device.h"
+
+namespace hcl_drivers {
+
+class Joystick : public Board {
+ public:
+  void init(BoardContext& ctx) override {
+    device_ = std::make_unique<transport::JoystickDevice>(requireString(ctx.pnh, "device"));
+    deadzone_ = optionalDouble(ctx.pnh, "deadzone", 0.05);
+    requireInRange(ctx.pnh, "deadzone", deadzone_, 0.0, 0.9);
+    publish_rate_ = optionalDouble(ctx.pnh, "publish_rate", std::min(10.0, ctx.rate));
+    requireInRange(ctx.pnh, "publish_rate", publish_rate_, 0.1, ctx.rate);
+    reopen_period_ = optionalDouble(ctx.pnh, "reopen_period", 0.5);
+    requirePositive(ctx.pnh, "reopen_period", reopen_period_);
+    frame_id_ = optionalString(ctx.pnh, "frame_id", "");
+    joy_pub_ = ctx.pnh.advertise<sensor_msgs::Joy>("joy", 10);
+    state_pub_ = ctx.pnh.advertise<JoystickState>("state", 1, true);
+  }
+
+  bool service() override {
+    const ros::Time now = ros::Time::now();
+    std::string err;
+    if (!device_->isOpen()) {
+      if (!last_open_try_.isZero() && (now - last_open_try_).toSec() < reopen_period_) {
+        fail(error_);
+        return false;
+      }
+      last_open_try_ = now;
+      if (!device_->open(err)) {
+        error_ = err;
+        fail(err);
+        return false;
+      }
+      decoder_.reset();
+      state_.resize(device_->axes(), device_->buttons());
+      if (ever_connected_) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        ++reopens_;
+      }
+    }
+    bytes_.clear();
+    const bool alive = device_->readAvailable(bytes_, err);
+    events_.clear();
+    decoder_.feed(bytes_.data(), bytes_.size(), events_);
+    bool changed = false;
+    for (const auto& e : events_) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      ++event_count_;
+      if (state_.apply(e))
+        changed = true;
+      else
+        ++bad_events_;
+    }
+    if (!alive) {
+      ROS_WARN("joystick %s: %s; axes centred, buttons released", device_->path().c_str(), err.c_str());
+      error_ = err;
+      state_.clear();
+      connected_ = false;
+      last_open_try_ = now;
+      publish(now);
+      fail(err);
+      return false;
+    }
+    if (!device_->delivering()) {
+      error_ = "waiting for " + device_->path() + " to deliver events";
+      fail(error_);
+      return false;
+    }
+    if (!connected_) changed = true;
+    connected_ = ever_connected_ = true;
+    if (changed || last_publish_.isZero() || (now - last_publish_).toSec() >= 1.0 / publish_rate_) publish(now);
+    return true;
+  }
+
+  void halt() override {}  // an input device: nothing to make safe
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.add("device", device_->path());
+    stat.add("connected", connected_ ? "yes" : "no");
+    stat.add("reopens", reopens_);
+    stat.add("events", event_count_);
+    stat.add("bad events", bad_events_);
+  }
+
+ private:
+  void publish(const ros::Time& now) {
+    last_publish_ = now;
+    sensor_msgs::Joy::Ptr j(new sensor_msgs::Joy);
+    j->header.stamp = now;
+    j->header.frame_id = frame_id_;
+    for (int16_t a : state_.axes()) j->axes.push_back(static_cast<float>(js::applyDeadzone(a, deadzone_)));
+    for (uint8_t b : state_.buttons()) j->buttons.push_back(b);
+    joy_pub_.publish(j);
+    JoystickState::Ptr s(new JoystickState);
+    s->header.stamp = now;
+    s->connected = connected_;
+    s->device = device_->path();
+    s->name = device_->name();
+    s->axes = j->axes;
+    s->buttons = j->buttons;
+    std::lock_guard<std::mutex> lk(mutex_);
+    s->reconnects = reopens_;
+    s->events = event_count_;
+    s->bad_events = bad_events_;
+    state_pub_.publish(s);
+  }
+
+  std::unique_ptr<transport::JoystickDevice> device_;  // loop thread only
+  js::Decoder decoder_;
+  js::State state_;
+  std::vector<uint8_t> bytes_;
+  std::vector<js::Event> events_;
+  double deadzone_ = 0.05, publish_rate_ = 10.0, reopen_period_ = 0.5;
+  std::string frame_id_, error_;
+  ros::Time last_open_try_, last_publish_;
+  bool connected_ = false, ever_connected_ = false;
+  ros::Publisher joy_pub_, state_pub_;
+
+  std::mutex mutex_;  // counters: loop vs diagnostics
+  uint32_t reopens_ = 0, event_count_ = 0, bad_events_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(Joystick)
