@@ -15,7 +15,8 @@
 // Names below are relative to the node's namespace (/ in the robot launch files), so several
 // simulators can run side by side in a test under different namespaces.
 // Topics: /clock, /sim/ground_truth + /sim/opponent (nav_msgs/Odometry), /sim/elements
-//   (robot_sim/GameElements), /sim/match (robot_sim/MatchState), /sim/faults
+//   (robot_sim/GameElements), /sim/match (robot_sim/MatchState), /sim/score (std_msgs/Int32),
+//   /sim/faults
 //   (robot_sim/ActiveFaults, latched), /sim/markers (visualization_msgs/MarkerArray);
 //   in: /sim/debug/motor_command (robot_sim/DebugMotorCommand, sim-only test input).
 // Services: /sim/inject_fault, /sim/teleport, /sim/place_opponent, /sim/set_switch, /sim/pause
@@ -28,6 +29,7 @@
 #include <robot_sim/Teleport.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/Int32.h>
 #include <std_srvs/SetBool.h>
 
 #include <atomic>
@@ -86,6 +88,7 @@ class Simulator {
     opponent_pub_ = nh_.advertise<nav_msgs::Odometry>("sim/opponent", 50);
     elements_pub_ = nh_.advertise<GameElements>("sim/elements", 5);
     match_pub_ = nh_.advertise<robot_sim::MatchState>("sim/match", 5);
+    score_pub_ = nh_.advertise<std_msgs::Int32>("sim/score", 5);  // the plain figure, for reports
     faults_pub_ = nh_.advertise<ActiveFaults>("sim/faults", 5, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("sim/markers", 2);
     motor_sub_ = nh_.subscribe("sim/debug/motor_command", 100, &Simulator::onMotorCommand, this);
@@ -303,7 +306,8 @@ class Simulator {
   void publishClock(double t) {
     rosgraph_msgs::Clock c;
     c.clock = ros::Time(t);
-    if (ros::Time::isSimTime()) ros::Time::setNow(c.clock);  // our own emulators see it at once
+    // Our own emulators get it through their /clock subscription like every node: setting
+    // ros::Time here as well would race that subscription and make time step backwards.
     clock_pub_.publish(c);
   }
 
@@ -314,7 +318,13 @@ class Simulator {
       if (config_.opponent.enabled) opponent_pub_.publish(toOdometry(world_->opponentTruth(), stamp, "opponent"));
     }
     if (elements_rate_.due(t)) elements_pub_.publish(toElementsMsg(world_->elements(), stamp));
-    if (match_rate_.due(t)) match_pub_.publish(toMatchMsg(world_->match(), config_.match.year, stamp));
+    if (match_rate_.due(t)) {
+      const MatchProgress m = world_->match();
+      match_pub_.publish(toMatchMsg(m, config_.match.year, stamp));
+      std_msgs::Int32 score;
+      score.data = m.score;
+      score_pub_.publish(score);
+    }
     if (marker_rate_.due(t) && markers_pub_.getNumSubscribers() > 0)
       markers_pub_.publish(worldMarkers(config_, world_->snapshot(), stamp));
   }
@@ -439,7 +449,7 @@ class Simulator {
   std::atomic<bool> running_{false};
   SimRate truth_rate_, elements_rate_, match_rate_, marker_rate_;
   std::thread thread_;
-  ros::Publisher clock_pub_, truth_pub_, opponent_pub_, elements_pub_, match_pub_, faults_pub_, markers_pub_;
+  ros::Publisher clock_pub_, truth_pub_, opponent_pub_, elements_pub_, match_pub_, score_pub_, faults_pub_, markers_pub_;
   ros::Subscriber motor_sub_;
   std::vector<ros::ServiceServer> services_;
 };

@@ -218,15 +218,6 @@ void SimWorld::step() {
   for (auto& kv : steppers_) stepStepper(config_.robot.steppers.at(kv.first), kv.second, dt);
   stepRobot(dt);
   if (config_.opponent.enabled) {
-    if (block_gap_ >= 0.0) {
-      // The opponent keeps standing in our way, wherever we turn.
-      const double d = config_.robot.radius + opponent_.radius() + block_gap_;
-      Pose2D p{pose_.x + d * std::cos(pose_.theta), pose_.y + d * std::sin(pose_.theta), pose_.theta + M_PI};
-      const double r = opponent_.radius();
-      p.x = std::clamp(p.x, r, config_.table.length - r);
-      p.y = std::clamp(p.y, r, config_.table.width - r);
-      opponent_.place(p, true);
-    }
     opponent_.step(dt, Circle{pose_.x, pose_.y, config_.robot.radius}, opponent_rng_);
   }
   stepElements(dt);
@@ -447,8 +438,19 @@ bool SimWorld::applyFault(const std::string& kind, const std::string& target, bo
       if (why) *why = "opponent_blocks: the opponent is disabled (sim/world/opponent/enabled)";
       return false;
     }
-    block_gap_ = active ? (magnitude > 0.0 ? magnitude : 0.1) : -1.0;
-    if (!active) opponent_.place(opponent_.pose(), false);
+    if (active) {
+      // The opponent steps into our path, facing us, and stays there until the fault ends.
+      const double gap = magnitude > 0.0 ? magnitude : 0.1;
+      const double d = config_.robot.radius + opponent_.radius() + gap;
+      Pose2D p{pose_.x + d * std::cos(pose_.theta), pose_.y + d * std::sin(pose_.theta),
+               normalizeAngle(pose_.theta + M_PI)};
+      const double r = opponent_.radius();
+      p.x = std::clamp(p.x, r, config_.table.length - r);
+      p.y = std::clamp(p.y, r, config_.table.width - r);
+      opponent_.place(p, true);
+    } else {
+      opponent_.place(opponent_.pose(), false);
+    }
     return true;
   }
   if (why) *why = "not a world fault: " + kind;

@@ -75,7 +75,7 @@ class SimWorld : public World {
 
   // World-side faults: "beacon_silent" (target: beacon id "0".."2"), "wheel_slip" (target: a
   // drive motor, magnitude: extra slip fraction, default 0.6), "opponent_blocks" (the opponent
-  // stands in front of our robot, magnitude: gap [m], default 0.1). False + why for others.
+  // steps in front of our robot and stays, magnitude: gap [m], default 0.1). False + why for others.
   bool applyFault(const std::string& kind, const std::string& target, bool active, double magnitude,
                   std::string* why);
   static bool isWorldFault(const std::string& kind);
@@ -134,7 +134,6 @@ class SimWorld : public World {
   std::deque<std::pair<double, std::pair<std::string, double>>> scheduled_;
   Opponent opponent_;
   BeaconModel beacons_;
-  double block_gap_ = -1.0;  // opponent_blocks fault active when >= 0
   // Random streams: dynamics (used by step only) and one per sensor.
   Rng slip_rng_, opponent_rng_, beacon_rng_;
   std::map<std::string, Rng> ranger_rng_;
