@@ -4,6 +4,7 @@ ground truth, markers, elements, match and score, and the services to teleport t
 place the opponent, flip switches and inject faults (now, scripted, and from ~faults)."""
 import math
 import os
+import signal
 import subprocess
 import threading
 import time
@@ -201,6 +202,26 @@ class SimServicesTest(unittest.TestCase):
         out = p.stdout + p.stderr
         self.assertIn('/bad_sim/real_time_factor', out)
         self.assertEqual(sum(1 for line in out.splitlines() if 'real_time_factor' in line), 1, out)
+
+    def test_7_both_robot_configs_load(self):
+        root = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'config')
+        for robot in ('eurobot2009', 'logion'):
+            ns = '/config_check_' + robot
+            for f in (robot + '.yaml', robot + '.sim.yaml'):
+                subprocess.run(['rosparam', 'load', os.path.join(root, f), ns], check=True, timeout=30)
+            env = dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED='1')
+            p = subprocess.Popen(['rosrun', 'robot_sim', 'simulator', '__ns:=' + ns, '__name:=sim',
+                                  '_firmware_enabled:=false', '_real_time_factor:=1.0'],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                                 start_new_session=True)
+            try:
+                out, _ = p.communicate(timeout=5.0)  # a bad config exits at once
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGINT)
+                out, _ = p.communicate(timeout=15.0)
+            self.assertIn('simulator: seed', out, '%s: %s' % (robot, out))
+            self.assertNotIn('FATAL', out, '%s: %s' % (robot, out))
+            self.assertIn('game elements', out)
 
 
 if __name__ == '__main__':
