@@ -1,0 +1,96 @@
+// Avoidance geometry: what blocks the route, what is the border, where a detour goes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hal_nodes/driver/avoidance.h"
+
+using namespace hal_nodes::driver;
+
+namespace {
+AvoidanceConfig config() {
+  AvoidanceConfig c;
+  c.robot_radius = 0.18;
+  c.opponent_radius = 0.2;
+  c.margin = 0.05;
+  c.detection_distance = 0.7;
+  c.braking_distance = 0.15;
+  return c;  // clearance 0.43
+}
+const std::vector<Point2D> kRoute = {{0.5, 1.0}, {2.5, 1.0}};
+}  // namespace
+
+TEST(Avoidance, ConfigIsChecked) {
+  EXPECT_TRUE(config().invalidReason().empty());
+  AvoidanceConfig c = config();
+  c.detection_distance = 0.3;  // shorter than braking + clearance
+  EXPECT_FALSE(c.invalidReason().empty());
+  AvoidanceConfig::Mode m;
+  EXPECT_TRUE(AvoidanceConfig::parseMode("detour", &m));
+  EXPECT_EQ(m, AvoidanceConfig::Mode::DETOUR);
+  EXPECT_FALSE(AvoidanceConfig::parseMode("swerve", &m));
+}
+
+TEST(Avoidance, OpponentOnTheRouteAheadBlocks) {
+  const Avoidance a(config());
+  const auto hit = a.check(kRoute, {{1.1, 1.2}});
+  ASSERT_TRUE(hit.blocked);
+  // Touching starts clearance-wide before the closest approach at 0.6 m.
+  EXPECT_NEAR(hit.along, 0.6 - std::sqrt(0.43 * 0.43 - 0.2 * 0.2), 1e-9);
+  EXPECT_NEAR(hit.direction.x, 1.0, 1e-12);
+}
+
+TEST(Avoidance, OffTheRouteOrTooFarAheadDoesNotBlock) {
+  const Avoidance a(config());
+  EXPECT_FALSE(a.check(kRoute, {{1.1, 1.5}}).blocked);   // 0.5 m beside: clearance 0.43
+  EXPECT_FALSE(a.check(kRoute, {{1.7, 1.0}}).blocked);   // touching from 0.77 m on: beyond detection
+  EXPECT_TRUE(a.check(kRoute, {{1.6, 1.0}}).blocked);    // touching from 0.67 m on: within 0.7 m
+  EXPECT_FALSE(a.check(kRoute, {}).blocked);
+  EXPECT_FALSE(a.check({{0.5, 1.0}}, {{0.6, 1.0}}).blocked);  // no route left
+}
+
+TEST(Avoidance, NearestOfSeveralAndAlongABend) {
+  const Avoidance a(config());
+  const std::vector<Point2D> bent = {{0.5, 1.0}, {0.8, 1.0}, {0.8, 1.6}};
+  const auto hit = a.check(bent, {{1.5, 1.3}, {0.8, 1.4}, {0.9, 1.05}});
+  ASSERT_TRUE(hit.blocked);
+  EXPECT_NEAR(hit.obstacle.x, 0.9, 1e-12);  // the nearest along the route
+}
+
+TEST(Avoidance, BorderEchoesAreNotTheOpponent) {
+  const Avoidance a(config());
+  EXPECT_FALSE(a.plausibleObstacle({2.98, 1.0}));
+  EXPECT_FALSE(a.plausibleObstacle({1.0, 0.02}));
+  EXPECT_FALSE(a.plausibleObstacle({-0.3, 1.0}));
+  EXPECT_TRUE(a.plausibleObstacle({1.5, 1.0}));
+}
+
+TEST(Avoidance, DetourGoesAroundOnTheSideWithRoom) {
+  const Avoidance a(config());
+  const std::vector<Point2D> obs = {{1.1, 1.0}};
+  const auto hit = a.check(kRoute, obs);
+  std::vector<Point2D> wps;
+  ASSERT_TRUE(a.detour(hit, obs, &wps));
+  ASSERT_EQ(wps.size(), 2u);
+  for (const auto& w : wps) {
+    EXPECT_GE(std::hypot(w.x - 1.1, w.y - 1.0), config().clearance());
+    EXPECT_GT(w.y, 0.23);
+    EXPECT_LT(w.y, 2.1 - 0.23);
+  }
+  // The legs robot -> w1 -> w2 -> goal stay clear of the opponent.
+  const std::vector<Point2D> route = {{0.5, 1.0}, wps[0], wps[1], {2.5, 1.0}};
+  EXPECT_FALSE(a.check(route, obs).blocked);
+}
+
+TEST(Avoidance, DetourNearTheEdgeTakesTheOtherSideOrNone) {
+  const Avoidance a(config());
+  // Route along y = 0.5: below it there is no room for the robot, so the detour goes above.
+  const std::vector<Point2D> low = {{0.5, 0.5}, {2.5, 0.5}};
+  const std::vector<Point2D> obs = {{1.1, 0.5}};
+  std::vector<Point2D> wps;
+  ASSERT_TRUE(a.detour(a.check(low, obs), obs, &wps));
+  EXPECT_GT(wps[0].y, 0.5);
+  // Opponents on both sides of the way: no detour, the driver stops.
+  const std::vector<Point2D> wall = {{1.1, 1.0}, {1.1, 1.5}, {1.1, 0.5}};
+  EXPECT_FALSE(a.detour(a.check(kRoute, wall), wall, &wps));
+}
