@@ -252,6 +252,8 @@ class Simulator {
     auto last_clock = Clock::now() - std::chrono::hours(1);
     auto last_report = Clock::now();
     double report_sim = anchor_sim;
+    int last_unknown = 0;
+    auto last_names_check = Clock::now();
     const auto clock_gap = std::chrono::duration<double>(1.0 / clock_max_rate_);
     while (running_ && ros::ok()) {
       if (paused_) {
@@ -281,6 +283,18 @@ class Simulator {
       if (now - last_clock >= clock_gap) {
         publishClock(t);
         last_clock = now;
+      }
+      if (now - last_names_check > std::chrono::seconds(1)) {
+        // An emulator asking for a motor/sensor the robot lacks is a config mismatch: say so.
+        const int unknown = world_->unknownNameCount();
+        if (unknown > last_unknown) {
+          std::string names;
+          for (const auto& n : world_->unknownNames()) names += (names.empty() ? "" : ", ") + n;
+          ROS_ERROR("simulator: %d reads/writes of names this robot does not have (sim/world/robot): %s",
+                    unknown - last_unknown, names.c_str());
+          last_unknown = unknown;
+        }
+        last_names_check = now;
       }
       if (now - last_report > std::chrono::seconds(10)) {
         const double achieved = (t - report_sim) / std::chrono::duration<double>(now - last_report).count();

@@ -90,6 +90,21 @@ TEST(SimWorld, StraightRunIntegratesToExpectedPoseAndTicks) {
   EXPECT_NEAR(w.time(), 2.0, 1e-12);
 }
 
+TEST(SimWorld, UnknownNamesAreCountedNeverThrown) {
+  SimWorld w(testConfig(), 1);
+  EXPECT_TRUE(w.has("motor", "left"));
+  EXPECT_FALSE(w.has("motor", "lft"));
+  EXPECT_FALSE(w.has("gizmo", "left"));
+  w.setMotorCommand("lft", 1.0);
+  EXPECT_EQ(w.encoderTicks("nope"), 0);
+  EXPECT_FALSE(w.switchClosed("nope"));
+  EXPECT_TRUE(std::isinf(w.measureRange("nope")));
+  EXPECT_EQ(w.unknownNameCount(), 4);
+  const auto names = w.unknownNames();
+  ASSERT_EQ(names.size(), 4u);
+  EXPECT_EQ(names[1], "motor 'lft'");
+}
+
 TEST(SimWorld, TurnOnTheSpotMovesMeasuringWheelsOppositely) {
   SimWorld w(testConfig(), 1);
   w.setMotorCommand("left", -0.2);

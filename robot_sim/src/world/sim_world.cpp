@@ -48,13 +48,28 @@ SimWorld::SimWorld(const WorldConfig& config, unsigned seed)
 }
 
 template <class M>
-typename M::mapped_type* SimWorld::find(M& m, const std::string& name) const {
+typename M::mapped_type* SimWorld::find(M& m, const std::string& name, const char* kind) const {
   auto it = m.find(name);
   if (it == m.end()) {
-    ++unknown_names_;
+    noteUnknown(kind, name);
     return nullptr;
   }
   return &it->second;
+}
+
+void SimWorld::noteUnknown(const char* kind, const std::string& name) const {
+  ++unknown_names_;
+  if (unknown_list_.size() < 32) unknown_list_.insert(std::string(kind) + " '" + name + "'");
+}
+
+std::vector<std::string> SimWorld::unknownNames() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::vector<std::string>(unknown_list_.begin(), unknown_list_.end());
+}
+
+int SimWorld::unknownNameCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return unknown_names_;
 }
 
 // ---------------------------------------------------------------- World: actuators
@@ -65,42 +80,42 @@ double SimWorld::time() const {
 
 void SimWorld::setMotorCommand(const std::string& motor, double fraction) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (Motor* m = find(motors_, motor)) m->state.command = std::isfinite(fraction) ? std::clamp(fraction, -1.0, 1.0) : 0.0;
+  if (Motor* m = find(motors_, motor, "motor")) m->state.command = std::isfinite(fraction) ? std::clamp(fraction, -1.0, 1.0) : 0.0;
 }
 
 double SimWorld::motorCurrent(const std::string& motor) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto* m = find(const_cast<std::map<std::string, Motor>&>(motors_), motor);
+  auto* m = find(const_cast<std::map<std::string, Motor>&>(motors_), motor, "motor");
   return m ? m->state.current : 0.0;
 }
 
 void SimWorld::setServoTarget(const std::string& servo, double position) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (ServoState* s = find(servos_, servo))
+  if (ServoState* s = find(servos_, servo, "servo"))
     if (std::isfinite(position)) s->target = position;
 }
 
 double SimWorld::servoPosition(const std::string& servo) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto* s = find(const_cast<std::map<std::string, ServoState>&>(servos_), servo);
+  auto* s = find(const_cast<std::map<std::string, ServoState>&>(servos_), servo, "servo");
   return s ? s->position : 0.0;
 }
 
 void SimWorld::setStepperTarget(const std::string& stepper, int64_t steps) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (StepperState* s = find(steppers_, stepper)) s->target = steps;
+  if (StepperState* s = find(steppers_, stepper, "stepper")) s->target = steps;
 }
 
 int64_t SimWorld::stepperPosition(const std::string& stepper) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto* s = find(const_cast<std::map<std::string, StepperState>&>(steppers_), stepper);
+  auto* s = find(const_cast<std::map<std::string, StepperState>&>(steppers_), stepper, "stepper");
   return s ? s->position : 0;
 }
 
 // ---------------------------------------------------------------- World: sensors
 int64_t SimWorld::encoderTicks(const std::string& encoder) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto* e = find(const_cast<std::map<std::string, Encoder>&>(encoders_), encoder);
+  auto* e = find(const_cast<std::map<std::string, Encoder>&>(encoders_), encoder, "encoder");
   if (!e) return 0;
   return static_cast<int64_t>(std::floor(e->turns * e->config.ticks_per_rev)) * e->config.sign;
 }
@@ -109,7 +124,7 @@ double SimWorld::measureRange(const std::string& ranger) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = config_.robot.rangers.find(ranger);
   if (it == config_.robot.rangers.end()) {
-    ++unknown_names_;
+    noteUnknown("ranger", ranger);
     return std::numeric_limits<double>::infinity();
   }
   const double r = robot_sim::trueRange(it->second, pose_, table_, obstacles(it->second.sees_elements));
@@ -132,7 +147,7 @@ bool SimWorld::switchClosed(const std::string& name) const {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = config_.robot.switches.find(name);
   if (it == config_.robot.switches.end()) {
-    ++unknown_names_;
+    noteUnknown("switch", name);
     return false;
   }
   const SwitchConfig& s = it->second;
@@ -376,7 +391,7 @@ void SimWorld::stepMatch() {
 void SimWorld::scheduleMotorCommand(double at, const std::string& motor, double fraction) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!motors_.count(motor)) {
-    ++unknown_names_;
+    noteUnknown("motor", motor);
     return;
   }
   const auto entry = std::make_pair(at, std::make_pair(motor, std::isfinite(fraction) ? fraction : 0.0));

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -85,7 +86,10 @@ class SimWorld : public World {
   MatchProgress match() const;
   std::vector<GameElement> elements() const;
   double trueRange(const std::string& ranger) const;  // noiseless, for tests
-  int unknownNameCount() const { return unknown_names_; }
+  // Names asked for that this robot does not have ("motor 'lft'"): a config mismatch between
+  // an emulator block and sim/world/robot, reported by the simulator.
+  int unknownNameCount() const;
+  std::vector<std::string> unknownNames() const;
 
  private:
   struct Motor {
@@ -112,7 +116,8 @@ class SimWorld : public World {
   std::vector<Circle> obstacles(bool with_elements) const;
   Pose2D toMap(double x, double y) const;  // a base_link point on the table
   template <class M>
-  typename M::mapped_type* find(M& m, const std::string& name) const;
+  typename M::mapped_type* find(M& m, const std::string& name, const char* kind) const;
+  void noteUnknown(const char* kind, const std::string& name) const;
 
   const WorldConfig config_;
   const unsigned seed_;
@@ -140,6 +145,7 @@ class SimWorld : public World {
   Rng compass_rng_;
   mutable Rng battery_rng_;
   mutable int unknown_names_ = 0;
+  mutable std::set<std::string> unknown_list_;
   bool match_started_ = false;
   double match_start_ = 0.0;
   int final_score_ = -1;
