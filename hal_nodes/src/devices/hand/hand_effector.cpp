@@ -1,0 +1,176 @@
+// Hand: the 2009 robot's column gripper. Two servo fingers (servo board, pulse widths) and a
+// stepper lift (stepper board, absolute targets in steps, end switches), offered as one
+// preemptible action hal_nodes/Hand on this device's name (/hal/hand): OPEN, CLOSE, LIFT to
+// a height. Servos have no feedback, so a finger move succeeds after ~finger_time; a lift
+// succeeds when the stepper is within ~tolerance_steps of its target and stopped, and aborts
+// when it stops elsewhere (an end switch, a jam) or after ~timeout. A cancel or a
+// deactivation stops the lift where it is (re-targets it to its position) and leaves the
+// fingers as they are (a held column stays held); while deactivated goals are refused.
+//
+// Parameters (besides ~rate):
+//   ~fingers/<name>/{topic (std_msgs/UInt16 pulse [us]), open_us, closed_us}   (required, >= 1)
+//   ~finger_time    [s] (default 0.6)
+//   ~lift/target    the stepper's target topic (std_msgs/Int32), required
+//   ~lift/state     the stepper board's state topic (hcl_drivers/StepperBoardState), required
+//   ~lift/stepper   the stepper's name in that state (required)
+//   ~lift/steps_per_meter  (required, > 0), ~lift/max_height [m] (required, > 0)
+//   ~tolerance_steps (default 5), ~timeout [s] per goal (default 8), ~max_input_age [s] (default 0.5)
+#include <actionlib/server/simple_action_server.h>
+#include <hal_nodes/HandAction.h>
+#include <hcl_drivers/StepperBoardState.h>
+#include <std_msgs/Int32.h>
+#include <std_msgs/UInt16.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+
+namespace hal_nodes {
+
+class HandEffector : public Effector {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    for (const auto& name : requireBlockNames(ctx.pnh, "fingers")) {
+      ros::NodeHandle p(ctx.pnh, "fingers/" + name);
+      Finger f;
+      f.open_us = requireInt(p, "open_us");
+      f.closed_us = requireInt(p, "closed_us");
+      requireInRange(p, "open_us", f.open_us, 500, 2500);
+      requireInRange(p, "closed_us", f.closed_us, 500, 2500);
+      f.pub = ctx.nh.advertise<std_msgs::UInt16>(requireString(p, "topic"), 1, true);
+      fingers_.push_back(std::move(f));
+    }
+    finger_time_ = optionalDouble(ctx.pnh, "finger_time", 0.6);
+    requirePositive(ctx.pnh, "finger_time", finger_time_);
+    ros::NodeHandle lift(ctx.pnh, "lift");
+    lift_pub_ = ctx.nh.advertise<std_msgs::Int32>(requireString(lift, "target"), 1, true);
+    stepper_ = requireString(lift, "stepper");
+    steps_per_meter_ = requireDouble(lift, "steps_per_meter");
+    requirePositive(lift, "steps_per_meter", steps_per_meter_);
+    max_height_ = requireDouble(lift, "max_height");
+    requirePositive(lift, "max_height", max_height_);
+    tolerance_ = optionalInt(ctx.pnh, "tolerance_steps", 5);
+    requireInRange(ctx.pnh, "tolerance_steps", tolerance_, 0, 1000);
+    timeout_ = optionalDouble(ctx.pnh, "timeout", 8.0);
+    requirePositive(ctx.pnh, "timeout", timeout_);
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    state_ = addInput<StepperBoardState>(ctx.nh, requireString(lift, "state"), "stepper board");
+    // Goals and cancels are polled in refresh(): everything happens on the refresh path, so
+    // deactivation, goals and progress never race (latency: one refresh period).
+    server_ = std::make_unique<actionlib::SimpleActionServer<HandAction>>(ctx.nh, ctx.name, false);
+    server_->start();
+  }
+
+  void refresh() override {
+    if (server_->isNewGoalAvailable()) {
+      if (server_->isActive() && goal_.command == HandGoal::LIFT) stopLift();
+      startGoal();
+    } else if (server_->isActive() && server_->isPreemptRequested()) {
+      if (goal_.command == HandGoal::LIFT) stopLift();
+      server_->setPreempted(HandResult(), "preempted");
+    }
+    const auto pos = liftPosition();
+    if (!pos) setUnavailable("no fresh state of lift stepper '" + stepper_ + "' (age " + std::to_string(state_->age()) + " s)");
+    else setAvailable();
+    if (!server_->isActive()) return;
+    const double elapsed = (ros::Time::now() - goal_start_).toSec();
+    HandFeedback fb;
+    fb.height = pos ? pos->first / steps_per_meter_ : NAN;
+    if (goal_.command == HandGoal::LIFT) {
+      fb.state = "lifting";
+      server_->publishFeedback(fb);
+      if (!pos) return finish(false, "lift stepper state lost");
+      if (std::abs(pos->first - target_steps_) <= tolerance_ && !pos->second) return finish(true, "at height");
+      if (!pos->second && elapsed > 0.5) return finish(false, "lift stopped at " + std::to_string(fb.height) + " m (end switch or jam)");
+    } else {
+      fb.state = goal_.command == HandGoal::OPEN ? "opening" : "closing";
+      server_->publishFeedback(fb);
+      if (elapsed >= finger_time_) return finish(true, goal_.command == HandGoal::OPEN ? "open" : "closed");
+    }
+    if (elapsed > timeout_) {
+      stopLift();
+      finish(false, "timed out");
+    }
+  }
+
+  void deactivate() override {
+    stopLift();
+    if (server_->isActive()) server_->setAborted(HandResult(), "deactivated");
+  }
+
+  void halt() override { deactivate(); }
+
+ private:
+  struct Finger {
+    int open_us = 1500, closed_us = 1500;
+    ros::Publisher pub;
+  };
+
+  // (position [steps], moving) of the lift stepper, if fresh.
+  std::optional<std::pair<int, bool>> liftPosition() const {
+    const auto s = state_->fresh(max_input_age_);
+    if (!s) return std::nullopt;
+    const auto it = std::find(s->stepper_names.begin(), s->stepper_names.end(), stepper_);
+    const std::size_t i = it - s->stepper_names.begin();
+    if (it == s->stepper_names.end() || i >= s->position.size()) return std::nullopt;
+    return std::make_pair(static_cast<int>(s->position[i]), i < s->moving.size() && s->moving[i]);
+  }
+
+  void startGoal() {
+    goal_ = *server_->acceptNewGoal();
+    goal_start_ = ros::Time::now();
+    if (!active()) return finish(false, "deactivated: effectors are frozen");
+    if (goal_.command == HandGoal::OPEN || goal_.command == HandGoal::CLOSE) {
+      for (auto& f : fingers_) {
+        std_msgs::UInt16 m;
+        m.data = static_cast<uint16_t>(goal_.command == HandGoal::OPEN ? f.open_us : f.closed_us);
+        f.pub.publish(m);
+      }
+    } else if (goal_.command == HandGoal::LIFT) {
+      if (!std::isfinite(goal_.height) || goal_.height < 0.0 || goal_.height > max_height_)
+        return finish(false, "height must be 0.." + std::to_string(max_height_) + " m");
+      if (!liftPosition()) return finish(false, "lift stepper state not available");
+      target_steps_ = static_cast<int>(std::lround(goal_.height * steps_per_meter_));
+      std_msgs::Int32 m;
+      m.data = target_steps_;
+      lift_pub_.publish(m);
+    } else {
+      finish(false, "unknown command " + std::to_string(goal_.command) + " (OPEN=0, CLOSE=1, LIFT=2)");
+    }
+  }
+
+  void stopLift() {
+    if (const auto pos = liftPosition()) {
+      std_msgs::Int32 m;
+      m.data = pos->first;
+      lift_pub_.publish(m);
+    }
+  }
+
+  void finish(bool ok, const std::string& message) {
+    HandResult r;
+    r.success = ok;
+    r.message = message;
+    if (ok) server_->setSucceeded(r, message);
+    else server_->setAborted(r, message);
+  }
+
+  std::vector<Finger> fingers_;
+  std::unique_ptr<actionlib::SimpleActionServer<HandAction>> server_;
+  std::shared_ptr<LatestValue<hcl_drivers::StepperBoardState>> state_;
+  ros::Publisher lift_pub_;
+  HandGoal goal_;
+  ros::Time goal_start_;
+  std::string stepper_;
+  double steps_per_meter_ = 1.0, max_height_ = 0.0, finger_time_ = 0.6, timeout_ = 8.0, max_input_age_ = 0.5;
+  int tolerance_ = 5, target_steps_ = 0;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(HandEffector)

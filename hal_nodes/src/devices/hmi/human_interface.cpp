@@ -1,0 +1,155 @@
+// HumanInterface: the robot's few human controls behind one interface, whatever the hardware
+// (2009: CAN HMI board with a 2x16 LCD and a keypad, start cord and colour switch on the
+// servo board; Logion: MCP23016 buttons and LEDs). Publishes hal_nodes/HumanInput on ~input
+// (/hal/hmi/input): start cord, `started` (the cord was pulled after being inserted: the
+// match start, latched until the device restarts), the selected side and strategy, and key
+// edges. Side and strategy are chosen before the start and frozen after it. The choice and
+// the state are shown on the LCD or on LEDs; the brain may put text on the LCD's second
+// line through ~text (std_msgs/String).
+//
+// Parameters (besides ~rate):
+//   ~start_cord   contact (contact_input.h): closed = cord inserted (required)
+//   ~sides        the two sides/colours, e.g. [blue, yellow] (required, 2 names)
+//   ~side_switch  contact: open = sides[0], closed = sides[1] (optional; else the toggle_side key)
+//   ~strategies   the strategy names offered (required, >= 1); the first is the default
+//   ~keys/<name>  contacts reported as key edges; `next_strategy` and `toggle_side` also act
+//   ~display      lcd | leds | none (default none)
+//   ~lcd          the LCD topic (std_msgs/String, lines separated by '\n'), for display: lcd
+//   ~leds         the LED output topic (std_msgs/UInt16 bits), for display: leds
+//   ~led_bits/{armed, started, side}   output bit numbers 0..15 (display: leds)
+//   ~max_input_age [s] (default 0.5)
+#include <hal_nodes/HumanInput.h>
+#include <std_msgs/String.h>
+#include <std_msgs/UInt16.h>
+
+#include <map>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+#include "hal_nodes/devices/contact_input.h"
+
+namespace hal_nodes {
+
+class HumanInterface : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    cord_ = ContactSpec::read(ctx.pnh, "start_cord");
+    sides_ = optionalStringList(ctx.pnh, "sides", {});
+    if (sides_.size() != 2) throw ParameterError("parameter " + qualified(ctx.pnh, "sides") + " must list exactly 2 names");
+    if (ctx.pnh.hasParam("side_switch")) side_switch_ = ContactSpec::read(ctx.pnh, "side_switch");
+    strategies_ = optionalStringList(ctx.pnh, "strategies", {});
+    if (strategies_.empty()) throw ParameterError("parameter " + qualified(ctx.pnh, "strategies") + " must list at least one strategy");
+    for (const auto& k : optionalBlockNames(ctx.pnh, "keys")) keys_.push_back(Key{k, ContactSpec::read(ctx.pnh, "keys/" + k)});
+    display_ = optionalString(ctx.pnh, "display", "none");
+    requireOneOf(ctx.pnh, "display", display_, {"lcd", "leds", "none"});
+    if (display_ == "lcd") lcd_pub_ = ctx.nh.advertise<std_msgs::String>(requireString(ctx.pnh, "lcd"), 1);
+    if (display_ == "leds") {
+      leds_pub_ = ctx.nh.advertise<std_msgs::UInt16>(requireString(ctx.pnh, "leds"), 1);
+      for (const char* n : {"armed", "started", "side"}) {
+        const int b = requireInt(ros::NodeHandle(ctx.pnh, "led_bits"), n);
+        requireInRange(ros::NodeHandle(ctx.pnh, "led_bits"), n, b, 0, 15);
+        led_bits_[n] = b;
+      }
+    }
+    auto topicInput = [&](const std::string& topic) {
+      if (!inputs_.count(topic)) inputs_[topic] = addInput<hcl_drivers::DigitalInputs>(ctx.nh, topic, topic);
+    };
+    topicInput(cord_.topic);
+    if (side_switch_) topicInput(side_switch_->topic);
+    for (const auto& k : keys_) topicInput(k.spec.topic);
+    text_ = addInput<std_msgs::String>(ctx.pnh, "text", "text");
+    pub_ = ctx.pnh.advertise<HumanInput>("input", 5);
+  }
+
+  void refresh() override {
+    HumanInput out;
+    out.header.stamp = ros::Time::now();
+    std::string missing;
+    auto read = [&](const ContactSpec& c) -> std::optional<bool> {
+      const auto m = inputs_[c.topic]->fresh(max_input_age_);
+      const auto v = m ? c.closed(*m) : std::nullopt;
+      if (!v) missing += (missing.empty() ? "" : ", ") + c.topic + (c.input.empty() ? "" : " (" + c.input + ")");
+      return v;
+    };
+    const auto cord = read(cord_);
+    if (cord) {
+      if (*cord) armed_ = true;
+      else if (armed_ && !started_) {
+        started_ = true;
+        ROS_WARN("human interface: start cord pulled, the match starts");
+      }
+      cord_in_ = *cord;
+    }
+    if (side_switch_ && !started_) {
+      if (const auto s = read(*side_switch_)) side_ = *s ? 1 : 0;
+    }
+    for (auto& k : keys_) {
+      const auto v = read(k.spec);
+      if (!v) continue;
+      if (*v && !k.held && k.known) {
+        out.pressed.push_back(k.name);
+        if (!started_ && k.name == "next_strategy") strategy_ = (strategy_ + 1) % strategies_.size();
+        if (!started_ && k.name == "toggle_side" && !side_switch_) side_ = 1 - side_;
+      }
+      k.held = *v;
+      k.known = true;
+    }
+    out.cord_inserted = cord_in_;
+    out.started = started_;
+    out.side = sides_[side_];
+    out.strategy = strategies_[strategy_];
+    if (missing.empty()) setAvailable();
+    else setUnavailable("no fresh input from " + missing);
+    pub_.publish(out);
+    show(out);
+  }
+
+ private:
+  struct Key {
+    std::string name;
+    ContactSpec spec;
+    bool held = false, known = false;
+  };
+
+  void show(const HumanInput& s) {
+    if (display_ == "lcd") {
+      std::string line2 = s.started ? "GO!" : (s.cord_inserted ? "ready: pull cord" : "insert the cord");
+      if (const auto t = text_->fresh(2.0)) line2 = t->data;
+      std_msgs::String m;
+      m.data = (s.side + " " + s.strategy).substr(0, 16) + "\n" + line2.substr(0, 16);
+      const ros::Time now = ros::Time::now();
+      if (m.data != last_lcd_ || (now - last_lcd_time_).toSec() > 2.0) {  // on change, and now and then
+        lcd_pub_.publish(m);
+        last_lcd_ = m.data;
+        last_lcd_time_ = now;
+      }
+    } else if (display_ == "leds") {
+      std_msgs::UInt16 m;
+      if (s.cord_inserted && !s.started) m.data |= 1u << led_bits_["armed"];
+      if (s.started) m.data |= 1u << led_bits_["started"];
+      if (side_ == 1) m.data |= 1u << led_bits_["side"];
+      leds_pub_.publish(m);
+    }
+  }
+
+  ContactSpec cord_;
+  std::optional<ContactSpec> side_switch_;
+  std::vector<Key> keys_;
+  std::vector<std::string> sides_, strategies_;
+  std::map<std::string, std::shared_ptr<LatestValue<hcl_drivers::DigitalInputs>>> inputs_;
+  std::shared_ptr<LatestValue<std_msgs::String>> text_;
+  std::map<std::string, int> led_bits_;
+  ros::Publisher pub_, lcd_pub_, leds_pub_;
+  std::string display_, last_lcd_;
+  ros::Time last_lcd_time_;
+  double max_input_age_ = 0.5;
+  std::size_t side_ = 0, strategy_ = 0;
+  bool armed_ = false, started_ = false, cord_in_ = false;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(HumanInterface)

@@ -1,0 +1,215 @@
+// Vision: finds the year's game elements (2008: balls by colour; 2009: columns) in the
+// camera's images and publishes where they stand on the table: hal_nodes/GameElements on
+// ~elements (/hal/vision/elements) in `map` with a covariance, and ~debug_image with the
+// detections drawn (only rendered while someone subscribes).
+//
+// How: each configured kind is a colour range in HSV; its blobs (opened to remove speckle,
+// at least ~min_area_px) are candidates. A blob's anchor pixel (its centre for a ball, the
+// middle of its bottom edge for a column standing on the table) is cast as a ray through a
+// pinhole camera (~horizontal_fov, or fx/fy/cx/cy) from the camera's optical frame, looked up
+// in tf at the image's stamp (URDF via robot_state_publisher, map -> odom from localization),
+// and intersected with the horizontal plane at the anchor's height. Points off the table
+// are dropped. The covariance grows with distance: a pixel error of ~pixel_std is
+// ~pixel_std/fx rad across the ray, stretched along it by 1/sin(depression angle).
+//
+// Parameters (besides ~rate; the device samples the newest image at its rate):
+//   ~image           input topic (sensor_msgs/Image, /hcl/<board>/image), required
+//   ~map_frame       (default map)      ~camera_frame (default: the image's frame_id)
+//   ~horizontal_fov  [rad] (default 1.0) or ~fx, ~fy, ~cx, ~cy [px]
+//   ~pixel_std       [px] (default 2)   ~max_input_age [s] (default 0.5)
+//   ~table/length, ~table/width [m] (default 3.0, 2.1)
+//   ~elements/<kind>/
+//       hsv_min, hsv_max   [h, s, v] OpenCV ranges (h 0..180); h_min > h_max wraps (reds)
+//       anchor             center | bottom   z  [m] height of the anchor (ball: its radius; column: 0)
+//       min_area_px        (default 30)
+#include <cv_bridge/cv_bridge.h>
+#include <hal_nodes/GameElements.h>
+#include <sensor_msgs/Image.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "hal_nodes/device_nodelet.h"
+#include "hal_nodes/devices/config_blocks.h"
+
+namespace hal_nodes {
+
+class VisionDevice : public Device {
+ public:
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;
+    map_frame_ = optionalString(ctx.pnh, "map_frame", "map");
+    camera_frame_ = optionalString(ctx.pnh, "camera_frame", "");
+    hfov_ = optionalDouble(ctx.pnh, "horizontal_fov", 1.0);
+    requireInRange(ctx.pnh, "horizontal_fov", hfov_, 0.1, 3.0);
+    fx_ = optionalDouble(ctx.pnh, "fx", 0.0);
+    fy_ = optionalDouble(ctx.pnh, "fy", fx_);
+    cx_ = optionalDouble(ctx.pnh, "cx", -1.0);
+    cy_ = optionalDouble(ctx.pnh, "cy", -1.0);
+    pixel_std_ = optionalDouble(ctx.pnh, "pixel_std", 2.0);
+    requirePositive(ctx.pnh, "pixel_std", pixel_std_);
+    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    table_length_ = optionalDouble(ros::NodeHandle(ctx.pnh, "table"), "length", 3.0);
+    table_width_ = optionalDouble(ros::NodeHandle(ctx.pnh, "table"), "width", 2.1);
+    for (const auto& kind : requireBlockNames(ctx.pnh, "elements")) {
+      ros::NodeHandle p(ctx.pnh, "elements/" + kind);
+      Kind k;
+      k.name = kind;
+      const auto lo = optionalDoubleList(p, "hsv_min", {});
+      const auto hi = optionalDoubleList(p, "hsv_max", {});
+      if (lo.size() != 3 || hi.size() != 3)
+        throw ParameterError("parameters " + qualified(p, "hsv_min") + " and hsv_max must be [h, s, v] (h 0..180, s and v 0..255)");
+      k.lo = cv::Scalar(lo[0], lo[1], lo[2]);
+      k.hi = cv::Scalar(hi[0], hi[1], hi[2]);
+      const std::string anchor = optionalString(p, "anchor", "center");
+      requireOneOf(p, "anchor", anchor, {"center", "bottom"});
+      k.bottom = anchor == "bottom";
+      k.z = requireDouble(p, "z");
+      requireInRange(p, "z", k.z, 0.0, 1.0);
+      k.min_area = optionalDouble(p, "min_area_px", 30.0);
+      requirePositive(p, "min_area_px", k.min_area);
+      kinds_.push_back(k);
+    }
+    image_ = addInput<sensor_msgs::Image>(ctx.nh, requireString(ctx.pnh, "image"), "image");
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
+    elements_pub_ = ctx.pnh.advertise<GameElements>("elements", 1);
+    debug_pub_ = ctx.pnh.advertise<sensor_msgs::Image>("debug_image", 1);
+  }
+
+  void refresh() override {
+    const auto img = image_->fresh(max_input_age_);
+    if (!img) return setUnavailable("no fresh camera image (age " + std::to_string(image_->age()) + " s)");
+    if (img->header.stamp == last_stamp_) return;  // already processed
+    last_stamp_ = img->header.stamp;
+    const std::string cam = camera_frame_.empty() ? img->header.frame_id : camera_frame_;
+    geometry_msgs::TransformStamped t;
+    try {
+      t = tf_buffer_.lookupTransform(map_frame_, cam, img->header.stamp, ros::Duration(0.05));
+    } catch (const tf2::TransformException& e) {
+      return setUnavailable("no transform " + map_frame_ + " -> " + cam + ": " + e.what());
+    }
+    cv_bridge::CvImageConstPtr cv;
+    try {
+      cv = cv_bridge::toCvShare(img, "bgr8");
+    } catch (const cv_bridge::Exception& e) {
+      ++bad_images_;
+      return setUnavailable(std::string("camera image not convertible to bgr8: ") + e.what());
+    }
+    setAvailable();
+    const Eigen::Isometry3d T = toEigen(t);
+    const double fx = fx_ > 0 ? fx_ : 0.5 * cv->image.cols / std::tan(0.5 * hfov_);
+    const double fy = fy_ > 0 ? fy_ : fx;
+    const double cx = cx_ >= 0 ? cx_ : 0.5 * cv->image.cols, cy = cy_ >= 0 ? cy_ : 0.5 * cv->image.rows;
+
+    cv::Mat hsv;
+    cv::cvtColor(cv->image, hsv, cv::COLOR_BGR2HSV);
+    const bool debug = debug_pub_.getNumSubscribers() > 0;
+    cv::Mat canvas = debug ? cv->image.clone() : cv::Mat();
+    GameElements out;
+    out.header.stamp = img->header.stamp;
+    out.header.frame_id = map_frame_;
+    for (const auto& k : kinds_) {
+      cv::Mat mask = threshold(hsv, k);
+      cv::morphologyEx(mask, mask, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(3, 3)));
+      std::vector<std::vector<cv::Point>> contours;
+      cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+      for (const auto& c : contours) {
+        if (cv::contourArea(c) < k.min_area) continue;
+        const cv::Rect box = cv::boundingRect(c);
+        const cv::Moments mo = cv::moments(c);
+        const double u = mo.m10 / mo.m00;
+        const double v = k.bottom ? box.y + box.height : mo.m01 / mo.m00;
+        GameElement e;
+        if (!project(T, (u - cx) / fx, (v - cy) / fy, k.z, fx, e)) continue;
+        e.kind = k.name;
+        e.pixel_radius = 0.5 * std::max(box.width, box.height);
+        out.elements.push_back(e);
+        if (debug) {
+          cv::rectangle(canvas, box, cv::Scalar(0, 255, 0), 2);
+          cv::putText(canvas, k.name, box.tl(), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 255, 0), 1);
+        }
+      }
+    }
+    elements_pub_.publish(out);
+    if (debug) debug_pub_.publish(cv_bridge::CvImage(img->header, "bgr8", canvas).toImageMsg());
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override { stat.add("bad images", bad_images_); }
+
+ private:
+  struct Kind {
+    std::string name;
+    cv::Scalar lo, hi;
+    bool bottom = false;
+    double z = 0.0, min_area = 30.0;
+  };
+
+  static cv::Mat threshold(const cv::Mat& hsv, const Kind& k) {
+    cv::Mat mask;
+    if (k.lo[0] <= k.hi[0]) {
+      cv::inRange(hsv, k.lo, k.hi, mask);
+    } else {  // hue range across 180 (red)
+      cv::Mat a, b;
+      cv::inRange(hsv, k.lo, cv::Scalar(180, k.hi[1], k.hi[2]), a);
+      cv::inRange(hsv, cv::Scalar(0, k.lo[1], k.lo[2]), k.hi, b);
+      mask = a | b;
+    }
+    return mask;
+  }
+
+  static Eigen::Isometry3d toEigen(const geometry_msgs::TransformStamped& t) {
+    const auto& r = t.transform.rotation;
+    const auto& p = t.transform.translation;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::Quaterniond(r.w, r.x, r.y, r.z).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(p.x, p.y, p.z);
+    return T;
+  }
+
+  // Ray (x, y, 1) in the optical frame -> point on the plane z = plane_z in map.
+  bool project(const Eigen::Isometry3d& T, double x, double y, double plane_z, double fx, GameElement& e) const {
+    const Eigen::Vector3d o = T.translation();
+    const Eigen::Vector3d d = T.linear() * Eigen::Vector3d(x, y, 1.0);
+    if (d.z() >= -1e-6) return false;  // at or above the horizon
+    const double s = (plane_z - o.z()) / d.z();
+    if (s <= 0) return false;
+    const Eigen::Vector3d p = o + s * d;
+    if (p.x() < 0 || p.y() < 0 || p.x() > table_length_ || p.y() > table_width_) return false;
+    const double range = (p - o).norm();
+    const double across = range * pixel_std_ / fx;
+    const double horiz = std::hypot(d.x(), d.y());
+    const double sin_dep = -d.z() / d.norm();
+    const double along = across / std::max(sin_dep, 0.05);
+    const double c = horiz > 1e-9 ? d.x() / horiz : 1.0, sn = horiz > 1e-9 ? d.y() / horiz : 0.0;
+    e.pose.pose.position.x = p.x();
+    e.pose.pose.position.y = p.y();
+    e.pose.pose.position.z = plane_z;
+    e.pose.pose.orientation.w = 1.0;
+    const double a2 = along * along, b2 = across * across;
+    e.pose.covariance[0] = c * c * a2 + sn * sn * b2;
+    e.pose.covariance[1] = e.pose.covariance[6] = c * sn * (a2 - b2);
+    e.pose.covariance[7] = sn * sn * a2 + c * c * b2;
+    e.pose.covariance[14] = 1e-4;
+    for (int i : {21, 28, 35}) e.pose.covariance[i] = 1e6;  // orientation unknown
+    return true;
+  }
+
+  std::vector<Kind> kinds_;
+  std::shared_ptr<LatestValue<sensor_msgs::Image>> image_;
+  tf2_ros::Buffer tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::Publisher elements_pub_, debug_pub_;
+  ros::Time last_stamp_;
+  std::string map_frame_, camera_frame_;
+  double hfov_ = 1.0, fx_ = 0, fy_ = 0, cx_ = -1, cy_ = -1, pixel_std_ = 2.0, max_input_age_ = 0.5;
+  double table_length_ = 3.0, table_width_ = 2.1;
+  unsigned long bad_images_ = 0;
+};
+
+}  // namespace hal_nodes
+
+HAL_EXPORT_DEVICE(VisionDevice)
