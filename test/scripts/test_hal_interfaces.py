@@ -1,0 +1,259 @@
+#!/usr/bin/env python3
+"""Human interface, hand, harvester and vision devices in a real hal_node, fed by this test."""
+import math
+import threading
+import time
+import unittest
+
+import actionlib
+import tf2_ros
+import numpy as np
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalStatus
+from geometry_msgs.msg import TransformStamped
+from hal_nodes.msg import GameElements, HandAction, HandGoal, HumanInput
+from hcl_drivers.msg import DigitalInputs, MotorCommand, StepperBoardState
+from sensor_msgs.msg import Image
+from std_msgs.msg import Float64, Int32, String, UInt16
+from std_srvs.srv import Trigger
+
+
+class Recorder(object):
+    def __init__(self, topic, msg_type):
+        self.lock = threading.Lock()
+        self.items = []
+        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=500, tcp_nodelay=True)
+
+    def _cb(self, msg):
+        with self.lock:
+            self.items.append((time.monotonic(), msg))
+
+    def since(self, t0):
+        with self.lock:
+            return [(t, m) for t, m in self.items if t >= t0]
+
+    def last(self):
+        with self.lock:
+            return self.items[-1][1] if self.items else None
+
+
+def wait_for(pred, timeout, step=0.01):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        v = pred()
+        if v:
+            return v
+        time.sleep(step)
+    return pred()
+
+
+class FakeStepper(object):
+    """A stepper board: moves `lift` towards its target at 2000 steps/s, publishes its state."""
+
+    def __init__(self):
+        self.position = 0.0
+        self.target = 0
+        self.lock = threading.Lock()
+        self.pub = rospy.Publisher('/hcl/fake/stepper/state', StepperBoardState, queue_size=1, latch=True)
+        self.targets = Recorder('/hcl/fake/stepper/lift/target', Int32)
+        rospy.Subscriber('/hcl/fake/stepper/lift/target', Int32, self._on_target, queue_size=10)
+        self.timer = rospy.Timer(rospy.Duration(0.02), self._tick)
+
+    def _on_target(self, m):
+        with self.lock:
+            self.target = m.data
+
+    def _tick(self, _):
+        with self.lock:
+            d = self.target - self.position
+            self.position += max(-40.0, min(40.0, d))
+            s = StepperBoardState()
+            s.header.stamp = rospy.Time.now()
+            s.stepper_names = ['other', 'lift']
+            s.position = [0, int(round(self.position))]
+            s.target = [0, self.target]
+            s.moving = [False, abs(self.target - self.position) > 0.5]
+        self.pub.publish(s)
+
+
+class HalInterfacesTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('test_hal_interfaces')
+        cls.stepper = FakeStepper()
+        # The camera 1 m above (1.5, 1.0) looking straight down: optical x = map x, y = -map y.
+        cls.tf = tf2_ros.StaticTransformBroadcaster()
+        t = TransformStamped()
+        t.header.stamp = rospy.Time.now()
+        t.header.frame_id = 'map'
+        t.child_frame_id = 'camera_optical_frame'
+        t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = 1.5, 1.0, 1.0
+        t.transform.rotation.x, t.transform.rotation.w = 1.0, 0.0
+        cls.tf.sendTransform(t)
+        rospy.wait_for_service('/effectors/deactivate', 20.0)
+        cls.deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger)
+        cls.activate = rospy.ServiceProxy('/effectors/activate', Trigger)
+
+    def test_hmi_cord_side_strategy_and_lcd(self):
+        hmi = Recorder('/hal/hmi/input', HumanInput)
+        lcd = Recorder('/hcl/fake/lcd', String)
+        inputs = rospy.Publisher('/hcl/fake/inputs', DigitalInputs, queue_size=1, latch=True)
+        keys = rospy.Publisher('/hcl/fake/keys', DigitalInputs, queue_size=1, latch=True)
+        state = {'inputs': 0, 'keys': 0}
+        stop = threading.Event()
+
+        def feed():
+            while not stop.is_set():
+                m = DigitalInputs(bits=state['inputs'], names=['start_cord', 'colour'])
+                m.header.stamp = rospy.Time.now()
+                inputs.publish(m)
+                k = DigitalInputs(bits=state['keys'], names=['1', '2', 'A'])
+                k.header.stamp = m.header.stamp
+                keys.publish(k)
+                time.sleep(0.02)
+        th = threading.Thread(target=feed)
+        th.start()
+        try:
+            self.assertTrue(wait_for(lambda: hmi.last() and hmi.last().strategy == 'match', 5.0))
+            s = hmi.last()
+            self.assertFalse(s.cord_inserted)
+            self.assertFalse(s.started)
+            self.assertEqual(s.side, 'red')
+            state['inputs'] = 0b01  # cord in
+            self.assertTrue(wait_for(lambda: hmi.last().cord_inserted, 2.0))
+            self.assertFalse(hmi.last().started)
+            t0 = time.monotonic()
+            state['keys'] = 0b100  # A pressed: next strategy
+            self.assertTrue(wait_for(lambda: hmi.last().strategy == 'homologation', 2.0))
+            self.assertIn('next_strategy', sum((list(m.pressed) for _, m in hmi.since(t0)), []))
+            state['keys'] = 0
+            state['inputs'] = 0b11  # colour switch: green
+            self.assertTrue(wait_for(lambda: hmi.last().side == 'green', 2.0))
+            self.assertTrue(wait_for(lambda: lcd.last() and lcd.last().data.startswith('green homologati\n'), 2.0),
+                            lcd.last())
+            state['inputs'] = 0b10  # cord pulled: the match starts
+            self.assertTrue(wait_for(lambda: hmi.last().started, 2.0))
+            state['inputs'] = 0b00  # the choice is frozen after the start
+            state['keys'] = 0b100
+            time.sleep(0.3)
+            s = hmi.last()
+            self.assertTrue(s.started)
+            self.assertEqual((s.side, s.strategy), ('green', 'homologation'))
+            self.assertTrue(wait_for(lambda: lcd.last().data.endswith('GO!'), 3.0), lcd.last())
+        finally:
+            stop.set()
+            th.join()
+
+    def test_hand_lift_preempt_fingers_and_deactivation(self):
+        client = actionlib.SimpleActionClient('/hal/hand', HandAction)
+        self.assertTrue(client.wait_for_server(rospy.Duration(10.0)))
+        left = Recorder('/hcl/fake/servo/left/pulse_us', UInt16)
+        # Lift to 5 cm = 1000 steps.
+        client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.05))
+        self.assertTrue(client.wait_for_result(rospy.Duration(5.0)))
+        self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED, client.get_goal_status_text())
+        self.assertTrue(client.get_result().success)
+        self.assertLessEqual(abs(self.stepper.position - 1000), 5)
+        # Lift to 15 cm, cancel on the way: the lift stops where it is.
+        client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.15))
+        time.sleep(0.4)
+        client.cancel_goal()
+        self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
+        self.assertEqual(client.get_state(), GoalStatus.PREEMPTED)
+        time.sleep(0.3)
+        stopped_at = self.stepper.position
+        self.assertGreater(stopped_at, 1100)
+        self.assertLess(stopped_at, 2900)
+        self.assertLessEqual(abs(self.stepper.targets.last().data - stopped_at), 60)
+        # Fingers: open sends the open pulse widths.
+        client.send_goal(HandGoal(command=HandGoal.OPEN))
+        self.assertTrue(client.wait_for_result(rospy.Duration(3.0)))
+        self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED)
+        self.assertEqual(left.last().data, 1000)
+        # Out-of-range height: aborted with a reason.
+        client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.5))
+        self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
+        self.assertEqual(client.get_state(), GoalStatus.ABORTED)
+        # Deactivation during a lift: aborted, lift stopped; goals refused until activated.
+        client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.0))
+        time.sleep(0.3)
+        self.deactivate()
+        try:
+            self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
+            self.assertEqual(client.get_state(), GoalStatus.ABORTED)
+            time.sleep(0.3)
+            frozen = self.stepper.position
+            time.sleep(0.3)
+            self.assertEqual(self.stepper.position, frozen)
+            self.assertGreater(frozen, 100)
+            client.send_goal(HandGoal(command=HandGoal.CLOSE))
+            self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
+            self.assertEqual(client.get_state(), GoalStatus.ABORTED)
+        finally:
+            self.activate()
+        time.sleep(0.2)
+        client.send_goal(HandGoal(command=HandGoal.CLOSE))
+        self.assertTrue(client.wait_for_result(rospy.Duration(3.0)))
+        self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED)
+        self.assertEqual(left.last().data, 1800)
+
+    def test_harvester_speed_and_deactivation_latency(self):
+        motor = Recorder('/hcl/fake/motor/roller/command', MotorCommand)
+        pub = rospy.Publisher('/hal/harvester/speed', Float64, queue_size=1, latch=True)
+        pub.publish(Float64(0.5))
+        self.assertTrue(wait_for(lambda: motor.last() and motor.last().value == 64, 3.0), motor.last())
+        self.assertEqual(motor.last().name, 'roller')
+        t_call = time.monotonic()
+        self.deactivate()
+        try:
+            zero = wait_for(lambda: [t for t, m in motor.since(t_call) if m.value == 0], 1.0, step=0.002)
+            self.assertTrue(zero)
+            print('harvester deactivate -> zero latency: %.1f ms' % (1e3 * (zero[0] - t_call)))
+            self.assertLess(zero[0] - t_call, 0.05)
+            time.sleep(0.2)
+            self.assertTrue(all(m.value == 0 for _, m in motor.since(t_call + 0.05)))
+        finally:
+            self.activate()
+        self.assertTrue(wait_for(lambda: motor.last().value == 64, 2.0))
+        pub.publish(Float64(0.0))
+
+    def test_vision_projects_blobs_on_the_table(self):
+        elements = Recorder('/hal/vision/elements', GameElements)
+        pub = rospy.Publisher('/hcl/fake/image', Image, queue_size=1)
+        w, h = 640, 480
+        img = np.zeros((h, w, 3), dtype=np.uint8)
+        img[:, :] = (40, 90, 40)  # dull green table
+        yy, xx = np.mgrid[0:h, 0:w]
+        img[(xx - 360) ** 2 + (yy - 280) ** 2 <= 12 ** 2] = (0, 0, 220)     # red ball (BGR)
+        img[(xx - 200) ** 2 + (yy - 100) ** 2 <= 12 ** 2] = (200, 60, 0)    # blue ball
+        msg = Image(height=h, width=w, encoding='bgr8', step=3 * w, data=img.tobytes())
+        msg.header.frame_id = 'camera_optical_frame'
+        t0 = time.monotonic()
+
+        def got():
+            for _, m in elements.since(t0):
+                if len(m.elements) >= 2:
+                    return m
+            msg.header.stamp = rospy.Time.now()
+            pub.publish(msg)
+            return None
+        m = wait_for(got, 10.0, step=0.1)
+        self.assertIsNotNone(m, 'no elements seen')
+        self.assertEqual(m.header.frame_id, 'map')
+        found = {e.kind: e for e in m.elements}
+        self.assertEqual(sorted(found), ['ball_blue', 'ball_red'])
+        fx = 320.0 / math.tan(0.5)
+        depth = 1.0 - 0.035
+        red = found['ball_red'].pose
+        self.assertAlmostEqual(red.pose.position.x, 1.5 + depth * 40 / fx, delta=0.004)
+        self.assertAlmostEqual(red.pose.position.y, 1.0 - depth * 40 / fx, delta=0.004)
+        blue = found['ball_blue'].pose
+        self.assertAlmostEqual(blue.pose.position.x, 1.5 - depth * 120 / fx, delta=0.004)
+        self.assertAlmostEqual(blue.pose.position.y, 1.0 + depth * 140 / fx, delta=0.004)
+        self.assertGreater(red.covariance[0], 0.0)
+        self.assertGreater(red.covariance[7], 0.0)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('system_tests', 'test_hal_interfaces', HalInterfacesTest)
