@@ -31,7 +31,7 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   libgtest-dev libgmock-dev googletest python3-nose python3-numpy \
   can-utils iproute2 socat
 # product (issue 10): rviz and its headless test (Xvfb + screenshot), the match report's plots
-DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil
+DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil openssh-server
 # libFuzzer (clang) for the beacon parser fuzz test (issue 5)
 DEPS += clang libclang-rt-14-dev
 
