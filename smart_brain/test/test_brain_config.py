@@ -45,6 +45,23 @@ class BrainConfigTest(unittest.TestCase):
                 # The arguments bind to the action's factory (typos fail here, not in a match).
                 inspect.signature(actions._ACTIONS[name]).bind(**args)
 
+    def test_homologation_machines_build_from_the_config(self):
+        try:
+            from hal_nodes.msg import FollowPathAction, GotoAction  # noqa: F401
+        except ImportError:
+            self.skipTest('hal_nodes driver actions (issue 8) not generated in this build')
+        from smart_brain.steps import build_sequence
+        from smart_brain.statemachine import Retry
+        for robot in ROBOTS:
+            steps = self.brain(robot)['homologation']['steps']
+            seq = build_sequence(steps, robot)
+            seq.check_consistency()
+            children = seq.get_children()
+            self.assertEqual(len(children), len(steps))
+            first = list(children.values())[0]
+            self.assertIsInstance(first, Retry)
+            self.assertEqual(first.state.action_name, '/hal/driver/go_straight')
+
     def test_joystick_buttons_name_real_callbacks(self):
         from smart_brain.strategies.joystick import CALLBACKS
         for robot in ROBOTS:

@@ -125,6 +125,17 @@ class BrainMatchTest(unittest.TestCase):
         self.assertEqual(self.server.snapshot(), [], 'a goal was sent before the start signal')
         self.assertFalse(self.deactivated.latest().data)
 
+        # Strategies switch at runtime (here before the start): unknown names are refused.
+        switch = rospy.ServiceProxy('/brain/switch_strategy', SwitchStrategy)
+        res = switch('no_such_strategy')
+        self.assertFalse(res.success)
+        self.assertIn('brain_test_drive', res.available)
+        for name in ('brain_bench_idle', 'brain_test_drive'):
+            res = switch(name)
+            self.assertTrue(res.success, res.message)
+            self.assertTrue(wait_for(lambda: self.match.latest().strategy == name, 5.0), self.match.latest())
+        self.assertEqual(self.match.latest().state, 'waiting_for_start')
+
         # 2. The cord is pulled: the strategy runs; leg 1 succeeds, leg 2 starts.
         self.hmi.publish(HumanInput(cord_inserted=False, started=True))
         started = time.monotonic()

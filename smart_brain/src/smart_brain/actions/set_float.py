@@ -9,15 +9,16 @@ _pubs = {}
 class SetFloat(State):
     def __init__(self, topic, value):
         State.__init__(self, outcomes=['succeeded'])
-        import rospy
-        from std_msgs.msg import Float64
-        if topic not in _pubs:
-            _pubs[topic] = rospy.Publisher(topic, Float64, queue_size=1, latch=True)
-        self._pub = _pubs[topic]
-        self._msg = Float64(float(value))
+        self.topic = topic
+        self.value = float(value)
 
     def execute(self, ud):
-        self._pub.publish(self._msg)
+        # Latched: a subscriber that connects after this publish still gets the setting.
+        import rospy
+        from std_msgs.msg import Float64
+        if self.topic not in _pubs:
+            _pubs[self.topic] = rospy.Publisher(self.topic, Float64, queue_size=1, latch=True)
+        _pubs[self.topic].publish(Float64(self.value))
         return 'succeeded'
 
 
