@@ -66,7 +66,7 @@ void Filter::setPose(const Pose2& pose, double std_xy, double std_theta) {
   }
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = false;
-  monitored_ = 0;
+  restartLikelihoodWatch();
   recover_until_ = -1e300;
   estimate_.pose = pose;
   computeEstimate();
@@ -83,7 +83,7 @@ void Filter::setPoseUniform(const Pose2& pose, double half_xy, double half_theta
   }
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = false;
-  monitored_ = 0;
+  restartLikelihoodWatch();
   recover_until_ = -1e300;
   estimate_.pose = pose;
   computeEstimate();
@@ -99,7 +99,7 @@ void Filter::globalLocalization() {
   }
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = true;
-  monitored_ = 0;
+  restartLikelihoodWatch();
   computeEstimate();
 }
 
@@ -134,10 +134,12 @@ void Filter::predictAndUpdate(ParticleSet& set) {
     // Augmented MCL's averages of the measurement likelihood; a collapse of the short-term
     // one against the long-term one means the particles no longer explain the data.
     const double w_avg = s1 / s0;
-    if (monitored_ == 0) {
+    if (!averages_init_) {
       w_slow_ = w_fast_ = w_avg;
+      averages_init_ = true;
     } else {
-      w_slow_ += cfg_.alpha_slow * (w_avg - w_slow_);
+      // The long-term level is learnt only while tracking: what a good fit looks like.
+      if (!lost_) w_slow_ += cfg_.alpha_slow * (w_avg - w_slow_);
       w_fast_ += cfg_.alpha_fast * (w_avg - w_fast_);
     }
     ++monitored_;
@@ -151,6 +153,12 @@ void Filter::predictAndUpdate(ParticleSet& set) {
   // replays identically whatever else in the process uses it.
   if (set.ESS() < cfg_.ess_threshold)
     mrpt::random::getRandomGenerator().randomize(static_cast<uint32_t>(rng_.next() >> 32));
+}
+
+void Filter::restartLikelihoodWatch() {
+  // A new cloud starts from the known good level: a wrong pose is then detected as a collapse.
+  monitored_ = 0;
+  w_fast_ = w_slow_;
 }
 
 bool Filter::resetFromSensorsIfPossible() {
@@ -175,7 +183,7 @@ bool Filter::resetFromSensorsIfPossible() {
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   reset_pending_ = false;
   lost_ = true;  // recovering until the cloud is tight again
-  monitored_ = 0;
+  restartLikelihoodWatch();
   ++resets_;
   recover_until_ = ctx_.now + cfg_.recovery_time;
   return true;

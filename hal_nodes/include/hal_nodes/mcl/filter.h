@@ -101,6 +101,7 @@ class Filter : private ParticleSet::Hooks {
   void afterResampling(ParticleSet& set) override;
 
   bool resetFromSensorsIfPossible();
+  void restartLikelihoodWatch();
   void computeEstimate();
   void clearInputs();
 
@@ -116,7 +117,8 @@ class Filter : private ParticleSet::Hooks {
   StepContext ctx_;
   Estimate estimate_;
   double w_slow_ = 0.0, w_fast_ = 0.0;
-  std::size_t monitored_ = 0;
+  std::size_t monitored_ = 0;     // monitored measurements since the last (re)start
+  bool averages_init_ = false;
   bool lost_ = true;
   bool reset_pending_ = false;
   double recover_until_ = -1e300;  // roughen after resampling until then
