@@ -101,7 +101,9 @@ class DescriptionTest(unittest.TestCase):
             rangers = (((sim.get('sim') or {}).get('world') or {}).get('robot') or {}).get('rangers') or {}
             for name, r in rangers.items():
                 link = name if name in links else 'ranger_' + name
-                self.assertIn(link, links, 'config/%s.sim.yaml ranger %s has no URDF link %s' % (robot, name, link))
+                self.assertIn(link, links, 'config/%s.sim.yaml sim/world/robot/rangers/%s: the robot has no such '
+                              'ranger (no URDF link %s; the HAL rangers are %s): rename it and take its mount '
+                              'from the URDF' % (robot, name, link, sorted(l for l in links if l.startswith('ranger_'))))
                 mount = r.get('mount') if isinstance(r, dict) else None
                 if not isinstance(mount, list) or len(mount) < 2:
                     continue
