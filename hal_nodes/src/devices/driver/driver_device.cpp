@@ -591,7 +591,14 @@ class Driver : public Effector {
       publishGotoFeedback();
       return;
     }
-    const Twist2D desired = autopilot_.step(pose, limiter_.last());
+    // Odometry's twist tells the Autopilot when the wheels have really stopped.
+    Twist2D measured;
+    const Twist2D* measured_ptr = nullptr;
+    if (const auto o = odom_->fresh(max_odom_age_)) {
+      measured = {o->twist.twist.linear.x, o->twist.twist.angular.z};
+      measured_ptr = &measured;
+    }
+    const Twist2D desired = autopilot_.step(pose, limiter_.last(), measured_ptr);
     if (autopilot_.done()) {
       if (!waypoints_.empty()) {  // a detour waypoint reached: on to the next leg
         waypoints_.erase(waypoints_.begin());
