@@ -1,0 +1,176 @@
+// A camera (USB webcam on V4L2, or any source OpenCV's VideoCapture opens; see
+// transport/camera_source.h). A grabber thread reads frames as the camera delivers them and
+// keeps only the newest (a camera is a stream: reading at our rate would queue old frames);
+// service() publishes the newest frame at ~rate if it is new. A camera that stops
+// delivering is released and reopened every ~reopen_period.
+//
+// Parameters (besides rate/loop):
+//   ~device          "0" / "/dev/video0" (V4L2) or a URL (simulation: http://127.0.0.1:PORT/camera.mjpg), required
+//   ~width ~height   requested size for V4L2 (default 0 = device default)
+//   ~fps             requested frame rate for V4L2 (default 0 = device default)
+//   ~frame_id        default "<board name>_optical_frame" (REP-103 optical frame from the URDF)
+//   ~reopen_period   [s] (default 1.0)
+// Topics: ~image (sensor_msgs/Image, bgr8), ~state (hcl_drivers/CameraState, latched).
+#include <hcl_drivers/CameraState.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <atomic>
+#include <cstring>
+#include <mutex>
+#include <thread>
+
+#include "hcl_drivers/board_nodelet.h"
+#include "hcl_drivers/transport/camera_source.h"
+
+namespace hcl_drivers {
+
+class Camera : public Board {
+ public:
+  ~Camera() override {
+    running_ = false;
+    if (grabber_.joinable()) grabber_.join();
+  }
+
+  void init(BoardContext& ctx) override {
+    const std::string device = requireString(ctx.pnh, "device");
+    const int width = optionalInt(ctx.pnh, "width", 0);
+    requireInRange(ctx.pnh, "width", width, 0, 8192);
+    const int height = optionalInt(ctx.pnh, "height", 0);
+    requireInRange(ctx.pnh, "height", height, 0, 8192);
+    const double fps = optionalDouble(ctx.pnh, "fps", 0.0);
+    requireInRange(ctx.pnh, "fps", fps, 0.0, 240.0);
+    reopen_period_ = optionalDouble(ctx.pnh, "reopen_period", 1.0);
+    requirePositive(ctx.pnh, "reopen_period", reopen_period_);
+    stale_after_ = std::max(1.0, 3.0 / ctx.rate);
+    frame_id_ = optionalString(ctx.pnh, "frame_id", ctx.name.substr(ctx.name.rfind('/') + 1) + "_optical_frame");
+    source_ = std::make_unique<transport::CameraSource>(device, width, height, fps);
+    image_pub_ = ctx.pnh.advertise<sensor_msgs::Image>("image", 2);
+    state_pub_ = ctx.pnh.advertise<CameraState>("state", 1, true);
+    running_ = true;
+    grabber_ = std::thread([this] { grab(); });
+  }
+
+  bool service() override {
+    cv::Mat frame;
+    ros::Time stamp;
+    CameraState::Ptr s(new CameraState);
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      s->open = open_;
+      s->device = source_->device();
+      s->frames = frames_;
+      s->failed_reads = failed_;
+      s->reopens = reopens_;
+      if (!open_) {
+        fail(error_.empty() ? "camera not open yet" : error_);
+        return false;
+      }
+      if (last_frame_.isZero() || (ros::Time::now() - last_frame_).toSec() > stale_after_) {
+        fail("no frame from " + source_->device() + " for " + std::to_string(stale_after_) + " s");
+        return false;
+      }
+      if (newest_seq_ == published_seq_) return true;  // the camera is slower than our rate: nothing new
+      published_seq_ = newest_seq_;
+      frame = newest_;  // shares the buffer; the grabber writes a new Mat, never into this one
+      stamp = last_frame_;
+    }
+    sensor_msgs::Image::Ptr img(new sensor_msgs::Image);
+    img->header.stamp = stamp;
+    img->header.frame_id = frame_id_;
+    img->height = static_cast<uint32_t>(frame.rows);
+    img->width = static_cast<uint32_t>(frame.cols);
+    img->encoding = sensor_msgs::image_encodings::BGR8;
+    img->is_bigendian = 0;
+    img->step = static_cast<uint32_t>(frame.cols * 3);
+    img->data.resize(static_cast<std::size_t>(img->step) * frame.rows);
+    for (int r = 0; r < frame.rows; ++r) std::memcpy(&img->data[r * img->step], frame.ptr(r), img->step);
+    image_pub_.publish(img);
+    s->header.stamp = stamp;
+    s->width = img->width;
+    s->height = img->height;
+    state_pub_.publish(s);
+    return true;
+  }
+
+  void halt() override {}  // a sensor: nothing to make safe
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    stat.add("device", source_->device());
+    stat.add("open", open_ ? "yes" : "no");
+    stat.add("frames", frames_);
+    stat.add("failed reads", failed_);
+    stat.add("reopens", reopens_);
+    stat.addf("size", "%dx%d", newest_.cols, newest_.rows);
+  }
+
+ private:
+  void grab() {
+    bool was_open = false;
+    int consecutive_failures = 0;
+    while (running_) {
+      std::string err;
+      if (!source_->isOpen()) {
+        if (!source_->open(err)) {
+          setOpen(false, err);
+          for (double t = 0; t < reopen_period_ && running_; t += 0.05) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+          continue;
+        }
+        std::lock_guard<std::mutex> lk(mutex_);
+        if (was_open) ++reopens_;
+        was_open = true;
+        open_ = true;
+        consecutive_failures = 0;
+      }
+      cv::Mat frame;
+      if (!source_->read(frame)) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        ++failed_;
+        if (++consecutive_failures >= 3) {  // the device or stream is gone: start over
+          source_->close();
+          open_ = false;
+          error_ = "camera " + source_->device() + " stopped delivering frames";
+        }
+        continue;
+      }
+      consecutive_failures = 0;
+      if (frame.type() != CV_8UC3) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        ++failed_;
+        continue;
+      }
+      std::lock_guard<std::mutex> lk(mutex_);
+      newest_ = frame;
+      ++newest_seq_;
+      ++frames_;
+      last_frame_ = ros::Time::now();
+    }
+    source_->close();
+  }
+
+  void setOpen(bool open, const std::string& err) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    open_ = open;
+    if (!err.empty()) error_ = err;
+  }
+
+  std::unique_ptr<transport::CameraSource> source_;  // grabber thread only (device() is const)
+  double reopen_period_ = 1.0, stale_after_ = 1.0;
+  std::string frame_id_;
+  ros::Publisher image_pub_, state_pub_;
+  std::atomic<bool> running_{false};
+  std::thread grabber_;
+
+  std::mutex mutex_;
+  bool open_ = false;
+  std::string error_;
+  cv::Mat newest_;
+  unsigned long newest_seq_ = 0, published_seq_ = 0;
+  ros::Time last_frame_;
+  uint32_t frames_ = 0, failed_ = 0, reopens_ = 0;
+};
+
+}  // namespace hcl_drivers
+
+HCL_EXPORT_BOARD(Camera)
