@@ -34,6 +34,9 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
 DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil openssh-server
 # libFuzzer (clang) for the beacon parser fuzz test (issue 5)
 DEPS += clang libclang-rt-14-dev
+# real SocketCAN test (issue 4): Debian's kernel (has vcan) booted with virtme-ng in qemu; the
+# test script pip-installs virtme-ng into build/can_vm_venv
+DEPS += linux-image-amd64 qemu-system-x86 busybox-static python3-venv
 
 .PHONY: deps build run test bench lint clean report
 

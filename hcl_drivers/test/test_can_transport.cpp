@@ -220,12 +220,14 @@ TEST(CanError, BusStateMachine) {
   s.apply(decodeErrorFrame(makeErrorFrame(can_err::kController, can_err::kCtrlTxPassive)));
   EXPECT_EQ(s.state, BusState::kErrorPassive);
   EXPECT_EQ(s.passive_count, 1u);
-  s.apply(decodeErrorFrame(makeErrorFrame(can_err::kBusOff)));
+  s.apply(decodeErrorFrame(makeErrorFrame(can_err::kBusOff)), 100.0);
   EXPECT_EQ(s.state, BusState::kBusOff);
-  s.apply(decodeErrorFrame(makeErrorFrame(can_err::kController, can_err::kCtrlTxPassive)));
+  s.apply(decodeErrorFrame(makeErrorFrame(can_err::kController, can_err::kCtrlTxPassive)), 100.1);
   EXPECT_EQ(s.state, BusState::kBusOff) << "passive reports do not lift bus-off";
-  s.frameReceived();
-  EXPECT_EQ(s.state, BusState::kErrorActive) << "receiving again means the controller restarted";
+  s.frameReceived(100.2);
+  EXPECT_EQ(s.state, BusState::kBusOff) << "a frame in flight at the bus-off proves nothing";
+  s.frameReceived(100.6);
+  EXPECT_EQ(s.state, BusState::kErrorActive) << "receiving well after means the controller restarted";
   EXPECT_EQ(s.restarts, 1u);
   s.apply(decodeErrorFrame(makeErrorFrame(can_err::kBusOff)));
   s.apply(decodeErrorFrame(makeErrorFrame(can_err::kRestarted)));

@@ -63,7 +63,7 @@ CanFrame makeErrorFrame(uint32_t classes, uint8_t ctrl) {
   return f;
 }
 
-void CanBusStatus::apply(const CanErrorEvent& e) {
+void CanBusStatus::apply(const CanErrorEvent& e, double now_s) {
   ++error_frames;
   last_error = e.describe();
   if (e.has_counters) {
@@ -73,6 +73,7 @@ void CanBusStatus::apply(const CanErrorEvent& e) {
   if (e.bus_off) {
     if (state != BusState::kBusOff) ++bus_off_count;
     state = BusState::kBusOff;
+    bus_off_since = now_s;
     return;  // restarted in the same frame is handled by the next one
   }
   if (e.restarted) {
@@ -89,9 +90,9 @@ void CanBusStatus::apply(const CanErrorEvent& e) {
   }
 }
 
-void CanBusStatus::frameReceived() {
+void CanBusStatus::frameReceived(double now_s) {
   ++rx_frames;
-  if (state == BusState::kBusOff) {
+  if (state == BusState::kBusOff && now_s - bus_off_since > kBusOffHoldoff) {
     // Receiving means the controller is back on the bus (automatic restart).
     state = BusState::kErrorActive;
     ++restarts;

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <system_error>
@@ -17,6 +18,10 @@ namespace hcl_drivers {
 namespace transport {
 
 namespace {
+
+double monotonicS() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 static_assert(can_err::kBusOff == CAN_ERR_BUSOFF && can_err::kRestarted == CAN_ERR_RESTARTED &&
                   can_err::kController == CAN_ERR_CRTL && can_err::kCtrlActive == CAN_ERR_CRTL_ACTIVE &&
@@ -171,7 +176,7 @@ void SocketCanBus::noteTx(bool ok, const std::string& error) {
 
 void SocketCanBus::noteRx() {
   std::lock_guard<std::mutex> lk(status_mutex_);
-  status_.frameReceived();
+  status_.frameReceived(monotonicS());
 }
 
 void SocketCanBus::monitor() {
@@ -184,7 +189,7 @@ void SocketCanBus::monitor() {
     const CanFrame f = fromKernel(k);
     if (!f.error) continue;
     std::lock_guard<std::mutex> lk(status_mutex_);
-    status_.apply(decodeErrorFrame(f));
+    status_.apply(decodeErrorFrame(f), monotonicS());
   }
 }
 

@@ -263,12 +263,13 @@ void UdpCanBus::handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr
   if (kind != udp_can::kKindFrame) return;
   if (f->error) {
     std::lock_guard<std::mutex> lk(status_mutex_);
-    status_.apply(decodeErrorFrame(*f));
+    status_.apply(decodeErrorFrame(*f), nowS());
     return;
   }
   {
     std::lock_guard<std::mutex> lk(status_mutex_);
-    status_.frameReceived();
+    status_.frameReceived(nowS());
+    if (status_.state == BusState::kBusOff) return;  // a bus-off controller receives nothing
   }
   deliverLocal(*f, nullptr);
 }

@@ -1,7 +1,8 @@
 // Decoding of CAN error frames (SocketCAN's linux/can/error.h layout, also carried by the
 // CAN-over-UDP bus) and the bus state they imply: error-active, warning, error-passive, bus-off.
 // A bus-off bus refuses every exchange until the controller restarts (CAN_ERR_RESTARTED),
-// reports error-active again, or a frame is received (the bus works again).
+// reports error-active again, or a frame is received well after the bus-off (a bus-off
+// controller receives nothing; frames already in flight when it happened do not count).
 #pragma once
 
 #include <cstdint>
@@ -76,10 +77,13 @@ struct CanBusStatus {
   uint8_t tx_errors = 0;
   uint8_t rx_errors = 0;
   std::string last_error;
+  double bus_off_since = 0.0;   // [s] monotonic time of the last bus-off
 
-  void apply(const CanErrorEvent& e);
-  // A data frame arrived: the bus works, so a bus-off/passive controller has recovered.
-  void frameReceived();
+  static constexpr double kBusOffHoldoff = 0.5;  // [s]
+  void apply(const CanErrorEvent& e, double now_s = 0.0);
+  // A data frame arrived at now_s: more than kBusOffHoldoff after a bus-off it proves the
+  // controller is back on the bus.
+  void frameReceived(double now_s = 1e300);
 };
 
 }  // namespace transport

@@ -2,7 +2,8 @@
 // (firmware_host, the CAN rostests and benchmarks): the boards on a test bench, wheels in the
 // air. Motors turn their encoders at `fraction * bench_ticks_per_s`, servos and steppers reach
 // their targets (steppers at 2000 steps/s between 0 and 20000 steps, with <name>_min/_max end
-// switches closed at the limits), rangers see `bench_range` metres, other switches are open.
+// switches closed at the limits), rangers see `bench_range` metres, the switches named in
+// `bench_closed` are closed, others open.
 // In the simulator the emulators get the real World (robot_sim/world) instead.
 #pragma once
 
@@ -11,6 +12,8 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "robot_sim/world/world.h"
 
@@ -18,7 +21,8 @@ namespace robot_sim {
 
 class BenchWorld : public World {
  public:
-  BenchWorld(double ticks_per_s, double range_m) : ticks_per_s_(ticks_per_s), range_m_(range_m) {}
+  BenchWorld(double ticks_per_s, double range_m, std::vector<std::string> closed = {})
+      : ticks_per_s_(ticks_per_s), range_m_(range_m), closed_(std::move(closed)) {}
 
   double time() const override {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -64,6 +68,8 @@ class BenchWorld : public World {
     };
     if (ends("_min")) return stepperPosition(name.substr(0, name.size() - 4)) <= 0;
     if (ends("_max")) return stepperPosition(name.substr(0, name.size() - 4)) >= kStepperMax;
+    for (const auto& c : closed_)
+      if (c == name) return true;
     return false;
   }
   double batteryVoltage() const override { return 24.0; }
@@ -110,6 +116,7 @@ class BenchWorld : public World {
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   double ticks_per_s_;
   double range_m_;
+  std::vector<std::string> closed_;
   mutable std::mutex mutex_;
   std::map<std::string, Motor> motors_;
   std::map<std::string, double> servos_;

@@ -41,9 +41,11 @@ void CanopenFirmware::start(FirmwareContext& ctx) {
   world_ = ctx.world;
   if (!world_) {
     double tps = 4000.0, range = 0.35;
+    std::vector<std::string> closed;
     ctx.pnh.param("bench_ticks_per_s", tps, tps);
     ctx.pnh.param("bench_range", range, range);
-    bench_world_ = std::make_unique<BenchWorld>(tps, range);
+    ctx.pnh.param("bench_closed", closed, closed);
+    bench_world_ = std::make_unique<BenchWorld>(tps, range, closed);
     world_ = bench_world_.get();
   }
   // Common object dictionary entries (CiA 301).
@@ -66,6 +68,12 @@ void CanopenFirmware::start(FirmwareContext& ctx) {
     throw std::runtime_error("cannot open CAN bus " + url + ": " + e.what());
   }
   truth_pub_ = ctx.nh.advertise<CanFirmware>("/sim/" + name_ + "/firmware", 5);
+  fault_srv_ = ctx.nh.advertiseService<InjectFault::Request, InjectFault::Response>(
+      "/sim/" + name_ + "/inject_fault", [this](InjectFault::Request& req, InjectFault::Response& res) {
+        res.ok = applyFault(req.kind, !req.clear);
+        res.message = res.ok ? "ok" : "emulator " + name_ + " does not emulate fault '" + req.kind + "'";
+        return true;
+      });
   truth_timer_ = ctx.nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { publishTruth(); });
   running_ = true;
   thread_ = std::thread([this] { run(); });

@@ -11,10 +11,13 @@
 // "bus-off" on the bus, silent until cleared, then "controller restarted"), can_reset (power
 // cycle: boot-up, counters restart), can_malformed (one TPDO of a wrong length and one frame on
 // an unknown COB-ID of this node), plus the board's own (EPOS: epos_fault).
+// The same faults are also offered per emulator as /sim/<name>/inject_fault (robot_sim/InjectFault:
+// kind and clear only), for hosts without the simulator's /sim/inject_fault (firmware_host).
 // Truth: /sim/<name>/firmware (robot_sim/CanFirmware) at 20 Hz.
 #pragma once
 
 #include <robot_sim/CanFirmware.h>
+#include <robot_sim/InjectFault.h>
 
 #include <atomic>
 #include <functional>
@@ -107,6 +110,7 @@ class CanopenFirmware : public Firmware {
   std::thread thread_;
   ros::Publisher truth_pub_;
   ros::WallTimer truth_timer_;
+  ros::ServiceServer fault_srv_;
   unsigned long rx_ = 0, rtr_ = 0, malformed_ = 0, aborts_ = 0, resets_ = 0;
 };
 

@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+"""CAN motor board driver (hcl_drivers/MotorBoard) against its emulator over CAN-over-UDP."""
+import struct
+import time
+import unittest
+
+import rospy
+import rosnode
+import rostest
+from diagnostic_msgs.msg import DiagnosticStatus
+from hcl_drivers.msg import EncoderCounter, MotorBoardState, MotorCommand
+from robot_sim.msg import CanFirmware
+
+from can_test_common import CanUdp, Diagnostics, Recorder, ERR_BUSOFF, ERR_RESTARTED, truth_value, value
+
+PORT, NODE = 47010, 10
+
+
+def signed(u):
+    return u - (1 << 32) if u >= (1 << 31) else u
+
+
+class MotorBoardTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('test_can_motor_board')
+        cls.state = Recorder('/hcl/motor_board/state', MotorBoardState)
+        cls.encoder = Recorder('/hcl/motor_board/encoder/left', EncoderCounter)
+        cls.truth = Recorder('/sim/motor_board/firmware', CanFirmware)
+        cls.diag = Diagnostics()
+        cls.left = rospy.Publisher('/hcl/motor_board/motor/left/command', MotorCommand, queue_size=1)
+        cls.right = rospy.Publisher('/hcl/motor_board/motor/right/command', MotorCommand, queue_size=1)
+        assert cls.state.wait_for(lambda m: m.node.answering, 30.0), 'the motor board never answered'
+        cls.bus = CanUdp(PORT)
+
+    def command(self, left, right, duration):
+        end = time.monotonic() + duration
+        while time.monotonic() < end:
+            for pub, v, name in ((self.left, left, 'left'), (self.right, right, 'right')):
+                pub.publish(MotorCommand(header=rospy.Header(stamp=rospy.Time.now()), name=name, value=v))
+            time.sleep(0.05)
+
+    def test_1_polls_at_the_configured_rate(self):
+        s = self.diag.wait_status('/hcl/motor_board', lambda s: float(value(s, 'achieved rate [Hz]') or 0) > 90, 10.0)
+        self.assertIsNotNone(s)
+        self.assertGreater(float(value(s, 'achieved rate [Hz]')), 90.0)
+        self.assertEqual(s.level, DiagnosticStatus.OK, s.message)
+        m = self.state.last()
+        self.assertEqual(m.node.nmt_state, 'operational')
+        self.assertEqual(m.node.bus_state, 'error-active')
+
+    def test_2_commands_drive_the_firmware_and_encoders_count(self):
+        e0 = self.encoder.last().raw
+        s0 = self.state.last().encoder_raw[1]
+        self.command(500, -300, 1.0)
+        t = self.truth.last()
+        self.assertEqual(truth_value(t, 'pwm0'), 500)
+        self.assertEqual(truth_value(t, 'pwm1'), -300)
+        m = self.state.last()
+        self.assertEqual(list(m.pwm_applied), [500, -300])
+        self.assertEqual(list(m.pwm_commanded), [500, -300])
+        # bench world: 4000 ticks/s at full duty
+        self.assertGreater(signed((self.encoder.last().raw - e0) & 0xFFFFFFFF), 1000)
+        self.assertLess(signed((m.encoder_raw[1] - s0) & 0xFFFFFFFF), -600)
+        self.assertEqual(self.encoder.last().bits, 32)
+
+    def test_3_a_stale_command_stops_the_motor(self):
+        self.command(400, 400, 0.5)
+        t_stop = time.monotonic()
+        stopped = self.truth.wait_for(lambda t: truth_value(t, 'pwm0') == 0 and truth_value(t, 'pwm1') == 0, 2.0)
+        self.assertIsNotNone(stopped, 'the driver kept driving on a stale command')
+        self.assertLess(time.monotonic() - t_stop, 0.25 + 0.25)
+        self.assertEqual(truth_value(stopped, 'watchdog_stopped'), 0, 'the driver, not the firmware, must stop it')
+
+    def test_4_malformed_and_unknown_frames_are_counted_and_dropped(self):
+        before = self.state.last().node
+        self.bus.send(0x180 + NODE, b'\x01\x02\x03')  # TPDO1 of the wrong length
+        self.bus.send(0x480 + NODE, b'\x01')           # a COB-ID the driver does not know
+        m = self.state.wait_for(lambda m: m.node.malformed_frames > before.malformed_frames and
+                                m.node.unknown_frames > before.unknown_frames, 3.0)
+        self.assertIsNotNone(m, 'malformed/unknown frames not counted')
+        self.assertTrue(self.state.wait_for(lambda m: m.node.answering, 1.0))
+
+    def test_5_a_reset_board_is_restarted(self):
+        self.bus.send(0x000, bytes([0x81, NODE]))  # NMT reset node: the firmware reboots
+        m = self.state.wait_for(lambda m: m.node.boot_ups >= 1 and m.node.answering, 5.0)
+        self.assertIsNotNone(m, 'boot-up not noticed')
+        self.assertEqual(m.node.nmt_state, 'operational')
+        self.assertIsNotNone(self.encoder.wait_for(lambda e: e.board_resets >= 1, 2.0))
+        t = self.truth.wait_for(lambda t: t.resets >= 1 and t.nmt_state == 'operational', 2.0)
+        self.assertIsNotNone(t, 'the driver did not start the node again')
+
+    def test_6_bus_off_is_reported_and_recovers(self):
+        self.bus.send(ERR_BUSOFF, dlc=8, error=True)
+        m = self.state.wait_for(lambda m: m.node.bus_state == 'bus-off', 3.0)
+        self.assertIsNotNone(m, 'bus-off not on the state topic')
+        s = self.diag.wait_status('/hcl/motor_board', lambda s: 'bus-off' in s.message, 3.0)
+        self.assertIn('bus-off', s.message)
+        self.assertGreaterEqual(s.level, DiagnosticStatus.ERROR)
+        self.bus.send(ERR_RESTARTED, dlc=8, error=True)
+        m = self.state.wait_for(lambda m: m.node.bus_state == 'error-active' and m.node.answering, 5.0)
+        self.assertIsNotNone(m, 'no recovery after the controller restarted')
+        s = self.diag.wait_status('/hcl/motor_board', lambda s: s.level == DiagnosticStatus.OK, 5.0)
+        self.assertEqual(s.level, DiagnosticStatus.OK, s.message)
+
+    def test_7_the_firmware_watchdog_stops_the_motor_without_a_driver(self):
+        rosnode.kill_nodes(['/hcl'])
+        time.sleep(1.0)
+        self.bus.send(0x000, bytes([0x01, NODE]))                       # keep it operational
+        self.bus.send(0x200 + NODE, struct.pack('<hh', 600, 0))         # one command, then silence
+        t_cmd = time.monotonic()
+        driving = self.truth.wait_for(lambda t: truth_value(t, 'pwm0') == 600, 1.0)
+        self.assertIsNotNone(driving, 'the injected command did not reach the firmware')
+        stopped = self.truth.wait_for(lambda t: truth_value(t, 'pwm0') == 0 and truth_value(t, 'watchdog_stopped') == 1, 2.0)
+        self.assertIsNotNone(stopped, 'the firmware kept the motor running without commands')
+        self.assertLess(time.monotonic() - t_cmd, 0.2 + 0.2)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('system_tests', 'can_motor_board', MotorBoardTest)
