@@ -36,7 +36,6 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <set>
 #include <thread>
 
 #include "robot_sim/firmware/firmware_host.h"
@@ -47,8 +46,6 @@
 namespace robot_sim {
 
 namespace {
-const std::set<std::string> kBoardFaults = {"board_silent", "can_bus_off", "serial_garbage", "serial_truncate"};
-
 // A rate in simulated time: due() once per period, on the step grid.
 struct SimRate {
   double period = 0.0;
@@ -78,7 +75,6 @@ class Simulator {
       config_ = loadWorldConfig(nh_, pnh_);
       config_.seed = static_cast<unsigned>(seed_);
       world_ = std::make_unique<SimWorld>(config_, config_.seed);
-      readScriptedFaults();
     } catch (const std::exception& e) {
       ROS_FATAL("%s", e.what());
       return false;
@@ -108,6 +104,12 @@ class Simulator {
     } else {
       ROS_INFO("simulator: no firmware emulators %s under %s", firmware_enabled_ ? "configured" : "(disabled)",
                pnh_.resolveName("firmware").c_str());
+    }
+    try {
+      readScriptedFaults();  // after the emulators: board targets must be running
+    } catch (const std::exception& e) {
+      ROS_FATAL("%s", e.what());
+      return false;
     }
     running_ = true;
     thread_ = std::thread([this] { run(); });
@@ -185,7 +187,7 @@ class Simulator {
       e.end = num("duration") > 0.0 ? e.start + num("duration") : 0.0;
       e.magnitude = num("magnitude");
       std::string why;
-      if (!validFault(e, /*check_boards=*/false, &why)) throw ConfigError("parameter " + at + ": " + why);
+      if (!validFault(e, /*check_boards=*/true, &why)) throw ConfigError("parameter " + at + ": " + why);
       faults_.add(e);
     }
   }
@@ -212,10 +214,11 @@ class Simulator {
       }
       return true;
     }
-    if (!kBoardFaults.count(f.kind)) {
+    // Any other kind is a board fault: the target emulator decides whether it emulates it.
+    if (f.kind.empty() || f.target.empty()) {
       *why = "kind '" + f.kind +
-             "' unknown; allowed values: beacon_silent, wheel_slip, opponent_blocks, board_silent, can_bus_off, "
-             "serial_garbage, serial_truncate";
+             "' is not a world fault (beacon_silent, wheel_slip, opponent_blocks); a board fault (board_silent, "
+             "can_bus_off, serial_garbage, serial_truncate or the emulator's own kinds) needs target: an emulator name";
       return false;
     }
     if (check_boards && (!host_ || !host_->find(f.target))) {

@@ -138,9 +138,9 @@ class SimServicesTest(unittest.TestCase):
         self.assertAlmostEqual(o.pose.pose.position.y, 0.4, delta=1e-6)
 
     def test_4_injected_faults(self):
-        r = self.inject(kind='wheel_fall_off', target='left')
+        r = self.inject(kind='wheel_fall_off')
         self.assertFalse(r.ok)
-        self.assertIn('allowed values', r.message)
+        self.assertIn('not a world fault', r.message)
         r = self.inject(kind='board_silent', target='no_such_board')
         self.assertFalse(r.ok)
         self.assertIn('not a running emulator', r.message)
@@ -191,7 +191,7 @@ class SimServicesTest(unittest.TestCase):
         self.assertTrue(self.switch('start_cord', False).ok)
         m = self.match.get(pred=lambda m: m.started and m.elapsed > 0.5)
         self.assertIsNotNone(m)
-        self.assertAlmostEqual(m.elapsed + m.remaining, 90.0, delta=1e-6)
+        self.assertAlmostEqual(m.elapsed + m.remaining, rospy.get_param('/sim/world/match/duration'), delta=1e-6)
         self.assertIsNotNone(self.score.get())
 
     def test_6_a_bad_parameter_stops_the_simulator_with_one_line(self):
@@ -222,6 +222,38 @@ class SimServicesTest(unittest.TestCase):
             self.assertIn('simulator: seed', out, '%s: %s' % (robot, out))
             self.assertNotIn('FATAL', out, '%s: %s' % (robot, out))
             self.assertIn('game elements', out)
+
+    def test_8_board_faults_reach_the_emulators(self):
+        # A simulator of its own (namespace /fw_check) hosting one HBmotor emulator on a private bus.
+        root = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'config')
+        ns = '/fw_check'
+        for f in ('logion.yaml', 'logion.sim.yaml'):
+            subprocess.run(['rosparam', 'load', os.path.join(root, f), ns], check=True, timeout=30)
+        if rospy.has_param(ns + '/sim/firmware'):
+            rospy.delete_param(ns + '/sim/firmware')
+        rospy.set_param(ns + '/sim/firmware/motor_left', {
+            'type': 'hbmotor', 'bus': 'sim:///tmp/robot_sim/test/world_%d/i2c-1' % os.getpid(), 'address': 16,
+            'motor': 'left'})
+        env = dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED='1')
+        p = subprocess.Popen(['rosrun', 'robot_sim', 'simulator', '__ns:=' + ns, '__name:=sim'],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                             start_new_session=True)
+        try:
+            rospy.wait_for_service(ns + '/sim/inject_fault', timeout=20.0)
+            inject = rospy.ServiceProxy(ns + '/sim/inject_fault', InjectFault)
+            r = inject(kind='board_silent', target='motor_left')
+            self.assertTrue(r.ok, r.message)
+            self.assertTrue(inject(kind='board_silent', target='motor_left', clear=True).ok)
+            r = inject(kind='can_bus_off', target='motor_left')
+            self.assertFalse(r.ok)
+            self.assertIn('does not emulate', r.message)
+            r = inject(kind='board_silent', target='motor_right')
+            self.assertFalse(r.ok)
+            self.assertIn('motor_left', r.message)  # names the running emulators
+        finally:
+            os.killpg(p.pid, signal.SIGINT)
+            out, _ = p.communicate(timeout=15.0)
+        self.assertIn('emulating board motor_left (hbmotor)', out)
 
 
 if __name__ == '__main__':

@@ -172,7 +172,7 @@ struct OpponentConfig {
 
 struct MatchConfig {
   std::string year = "2009";
-  double duration = 90.0;      // [s]
+  double duration = 100.0;     // [s]
   std::string start_switch;    // the match starts when this switch opens ("" : at t = 0)
 };
 
