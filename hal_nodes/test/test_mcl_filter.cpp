@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <random>
 #include <vector>
@@ -158,8 +156,6 @@ TEST(Filter, RecoversFromAKidnapWithoutHelp) {
   EXPECT_LT(rms(err, 200, 700), 0.015);
   EXPECT_GT(maxOf(err, 700, 720), 0.5);               // the teleport happened
   EXPECT_GE(rig.filter->resets(), 1u);                // detected by itself
-  for (std::size_t i = 700; i < err.size(); i += 25)
-    if (std::getenv("MCL_TEST_TRACE")) std::printf("t %.2f err %.3f lost %d resets %lu\n", i * 0.01, err[i], 0, rig.filter->resets());
   EXPECT_LT(maxOf(err, 1000, err.size()), 0.05);      // recovered within 3 s
   EXPECT_FALSE(rig.filter->estimate().lost);
 }
