@@ -2,7 +2,7 @@
 // reimplemented here from that text). One H-bridge and one 32-bit encoder counter.
 //
 // Parameters: ~bus (sim:///PATH), ~address (0x08..0x77),
-//   ~motor, ~encoder        the world's motor and encoder names (with a world)
+//   ~motor, ~encoder        the world's motor and encoder names (with a world; encoder "" = none)
 //   ~ticks_per_second       without a world: counts per second at full command (default 2000)
 // Truth (tests only): /sim/<name>/duty (std_msgs/Int32, the duty the H-bridge applies, 50 Hz).
 // Faults: "board_silent" (NACKs), "board_reset" (power-on state: flag set, watchdog off,
@@ -106,7 +106,11 @@ class HBMotorFirmware : public RegisterChip {
     if (world_) world_->setMotorCommand(motor_, d / 127.0);
   }
 
-  int64_t rawTicks() const { return world_ ? world_->encoderTicks(encoder_) : static_cast<int64_t>(std::floor(model_ticks_)); }
+  // ~encoder "" with a world: no encoder connected, the counter stays 0.
+  int64_t rawTicks() const {
+    if (world_) return encoder_.empty() ? 0 : world_->encoderTicks(encoder_);
+    return static_cast<int64_t>(std::floor(model_ticks_));
+  }
   uint32_t encoderNow() const { return static_cast<uint32_t>(rawTicks() - offset_); }
 
   // The firmware's main loop: watchdog, and the world-less motor model.
