@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""HCL + HAL of a robot against the simulator: odometry vs /sim/ground_truth over a 10 m
+route, beacon ranges vs true distances, /effectors/deactivate latency at the motors."""
+import math
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import Twist
+from hal_nodes.msg import BeaconRange
+from hcl_drivers.msg import MotorBoardState
+from nav_msgs.msg import Odometry
+from std_srvs.srv import Trigger
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+class Latest(object):
+    def __init__(self, topic, msg_type, keep=False):
+        self.lock = threading.Lock()
+        self.msg = None
+        self.items = [] if keep else None
+        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=200, tcp_nodelay=True)
+
+    def _cb(self, m):
+        with self.lock:
+            self.msg = m
+            if self.items is not None:
+                self.items.append((time.monotonic(), m))
+
+    def get(self):
+        with self.lock:
+            return self.msg
+
+
+class HalSimTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('test_hal_sim')
+        cls.start = rospy.get_param('~start')
+        cls.truth = Latest('/sim/ground_truth', Odometry)
+        cls.odom = Latest('/odom', Odometry)
+        cls.cmd = rospy.Publisher('/hal/drive/cmd_vel', Twist, queue_size=1)
+        deadline = time.monotonic() + 60.0
+        while time.monotonic() < deadline and not (cls.truth.get() and cls.odom.get()):
+            time.sleep(0.1)
+
+    def odom_in_map(self):
+        """The odometry pose composed with the start pose (odom starts where the robot stood)."""
+        o = self.odom.get().pose.pose
+        x0, y0, t0 = self.start
+        c, s = math.cos(t0), math.sin(t0)
+        return (x0 + c * o.position.x - s * o.position.y, y0 + s * o.position.x + c * o.position.y,
+                wrap(t0 + yaw_of(o.orientation)))
+
+    def drive(self, v, w):
+        t = Twist()
+        t.linear.x, t.angular.z = v, w
+        self.cmd.publish(t)
+
+    def straight(self, dist, speed=0.35):
+        o0 = self.odom.get().pose.pose.position
+        th0 = yaw_of(self.odom.get().pose.pose.orientation)
+        v = 0.0
+        while not rospy.is_shutdown():
+            o = self.odom.get().pose.pose
+            done = math.hypot(o.position.x - o0.x, o.position.y - o0.y)
+            if done >= dist - 0.005:
+                break
+            target = min(speed, max(0.05, 1.5 * (dist - done)))
+            v = min(target, v + 0.02)  # ~1 m/s^2 at 50 Hz: gentle, little slip
+            self.drive(v, 2.0 * wrap(th0 - yaw_of(o.orientation)))
+            rospy.sleep(0.02)
+        self.drive(0.0, 0.0)
+        rospy.sleep(0.5)
+
+    def turn(self, angle):
+        th0 = yaw_of(self.odom.get().pose.pose.orientation)
+        while not rospy.is_shutdown():
+            err = wrap(th0 + angle - yaw_of(self.odom.get().pose.pose.orientation))
+            if abs(err) < 0.01:
+                break
+            self.drive(0.0, max(-1.5, min(1.5, 3.0 * err + math.copysign(0.2, err))))
+            rospy.sleep(0.02)
+        self.drive(0.0, 0.0)
+        rospy.sleep(0.5)
+
+    def test_1_odometry_over_a_10m_route(self):
+        self.assertIsNotNone(self.odom.get(), 'no /odom from the HAL')
+        self.assertIsNotNone(self.truth.get(), 'no /sim/ground_truth')
+        # Two rectangle laps inside the table: 2 x (1.8 + 0.9 + 1.8 + 0.9) = 10.8 m.
+        truth_path = [0.0]
+        last = [None]
+
+        def on_truth(m):
+            p = m.pose.pose.position
+            if last[0] is not None:
+                truth_path[0] += math.hypot(p.x - last[0][0], p.y - last[0][1])
+            last[0] = (p.x, p.y)
+        sub = rospy.Subscriber('/sim/ground_truth', Odometry, on_truth, queue_size=100)
+        for _ in range(2):
+            for leg in (1.8, 0.9, 1.8, 0.9):
+                self.straight(leg)
+                self.turn(-math.pi / 2)
+        sub.unregister()
+        rospy.sleep(0.5)
+        est = self.odom_in_map()
+        tp = self.truth.get().pose.pose
+        err = math.hypot(est[0] - tp.position.x, est[1] - tp.position.y)
+        dist = truth_path[0]
+        print('odometry route: %.2f m travelled, position error %.3f m (%.2f %%), heading error %.3f rad' %
+              (dist, err, 100.0 * err / dist, wrap(est[2] - yaw_of(tp.orientation))))
+        self.assertGreater(dist, 10.0)
+        self.assertLess(err, 0.02 * dist)
+        cov = self.odom.get().pose.covariance
+        self.assertGreater(cov[0] + cov[7], 0.0)
+
+    def test_2_beacon_ranges_match_true_distances(self):
+        beacons = rospy.get_param('/table/beacons')
+        ranges = Latest('/hal/beacons/ranges', BeaconRange, keep=True)
+        t0 = time.monotonic()
+        time.sleep(4.0)  # the robot stands still: compare against its true position
+        tp = self.truth.get().pose.pose.position
+        got = [m for t, m in ranges.items if t >= t0]
+        self.assertGreater(len(got), 20, 'too few beacon ranges')
+        errors = []
+        for m in got:
+            bx, by = beacons[m.beacon_id]
+            errors.append(m.range - math.hypot(bx - tp.x, by - tp.y))
+        errors.sort()
+        median = errors[len(errors) // 2]
+        inliers = [e for e in errors if abs(e) < 0.05]
+        print('beacons: %d ranges, median error %.4f m, %d within 5 cm' % (len(got), median, len(inliers)))
+        self.assertLess(abs(median), 0.02)
+        self.assertGreater(len(inliers), 0.9 * len(got))
+
+    def test_3_deactivate_stops_the_motors_within_50ms(self):
+        state = Latest('/hcl/motor_board/state', MotorBoardState, keep=True)
+        stop = threading.Event()
+
+        def keep_driving():
+            while not stop.is_set():
+                self.drive(0.2, 0.0)
+                time.sleep(0.02)
+        th = threading.Thread(target=keep_driving)
+        th.start()
+        try:
+            time.sleep(1.5)
+            self.assertTrue(state.get() and any(state.get().pwm_applied), 'the motors are not driven')
+            deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger)
+            t_call = time.monotonic()
+            deactivate()
+            time.sleep(1.0)
+            after = [(t, m) for t, m in state.items if t >= t_call and not any(m.pwm_applied)]
+            self.assertTrue(after, 'the motors were never stopped')
+            latency = after[0][0] - t_call
+            speed = abs(self.truth.get().twist.twist.linear.x)
+            print('deactivate -> motor board applies 0: %.1f ms; speed 1 s later %.3f m/s' % (1e3 * latency, speed))
+            self.assertLess(latency, 0.05)
+            self.assertLess(speed, 0.01)
+        finally:
+            stop.set()
+            th.join()
+            rospy.ServiceProxy('/effectors/activate', Trigger)()
+
+
+if __name__ == '__main__':
+    rostest.rosrun('system_tests', 'test_hal_sim', HalSimTest)
