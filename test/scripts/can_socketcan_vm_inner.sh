@@ -33,11 +33,12 @@ firmware:
 YAML
 rosparam load /tmp/params.yaml /
 log "params loaded"
-# The firmware of node 20 is can-utils: answer each RTR on 0x194 (RTR only: filter with the RTR flag).
+# The firmware of node 20 is can-utils: answer each RTR on 0x194 with cansend. (candump's
+# 8-digit filter form would add the extended flag, so filter on the id and keep RTRs only.)
 (
   while true; do
-    candump -n 1 vcan0,40000194:C00007FF > /dev/null 2>&1 || break
-    cansend vcan0 194#05000F03
+    line=$(candump -n 1 -L vcan0,194:7FF 2>/dev/null) || break
+    case "$line" in *"194#R"*) cansend vcan0 194#05000F03 ;; esac
   done
 ) &
 rosrun robot_sim firmware_host __name:=firmware > /tmp/ros/firmware.log 2>&1 &
