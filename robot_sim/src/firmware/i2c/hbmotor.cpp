@@ -29,8 +29,10 @@ class HBMotorFirmware : public RegisterChip {
     ctx.pnh.param<std::string>("motor", motor_, "");
     ctx.pnh.param<std::string>("encoder", encoder_, motor_);
     ctx.pnh.param("ticks_per_second", ticks_per_second_, 2000.0);
-    if (world_ && motor_.empty())
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("motor") + " missing: the world's motor name");
+    if (world_ && (motor_.empty() || !world_->has("motor", motor_)))
+      throw std::runtime_error("parameter " + ctx.pnh.resolveName("motor") + " = '" + motor_ + "': no such motor in the world");
+    if (world_ && !encoder_.empty() && !world_->has("encoder", encoder_))
+      throw std::runtime_error("parameter " + ctx.pnh.resolveName("encoder") + " = '" + encoder_ + "': no such encoder in the world");
     powerOn();
     truth_pub_ = ctx.nh.advertise<std_msgs::Int32>("/sim/" + ctx.name + "/duty", 10);
     attachBus(ctx, 0x08, 0x77);
@@ -45,7 +47,7 @@ class HBMotorFirmware : public RegisterChip {
     if (world_ && !motor_.empty()) world_->setMotorCommand(motor_, 0.0);
   }
 
-  bool applyFault(const std::string& kind, bool active) {
+  bool applyFault(const std::string& kind, bool active) override {
     if (kind == "board_reset") {
       if (active) {
         std::lock_guard<std::mutex> lk(mutex_);

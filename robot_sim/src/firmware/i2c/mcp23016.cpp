@@ -42,7 +42,7 @@ class MCP23016Firmware : public RegisterChip {
     truth_timer_.stop();
   }
 
-  bool applyFault(const std::string& kind, bool active) {
+  bool applyFault(const std::string& kind, bool active) override {
     if (kind == "board_reset") {
       if (active) {
         std::lock_guard<std::mutex> lk(mutex_);

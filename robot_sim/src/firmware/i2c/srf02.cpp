@@ -27,8 +27,8 @@ class SRF02Firmware : public RegisterChip {
     pnh_ = ctx.pnh;
     ctx.pnh.param<std::string>("ranger", ranger_, "");
     ctx.pnh.param("conversion_time", conversion_, 0.065);
-    if (world_ && ranger_.empty())
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("ranger") + " missing: the world's ranger name");
+    if (world_ && (ranger_.empty() || !world_->has("ranger", ranger_)))
+      throw std::runtime_error("parameter " + ctx.pnh.resolveName("ranger") + " = '" + ranger_ + "': no such ranger in the world");
     truth_pub_ = ctx.nh.advertise<std_msgs::Float64>("/sim/" + ctx.name + "/range", 10, true);
     attachBus(ctx, 0x70, 0x7F);
   }

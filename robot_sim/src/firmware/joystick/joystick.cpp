@@ -63,7 +63,7 @@ class JoystickFirmware : public Firmware {
     if (!path_.empty()) ::unlink(path_.c_str());
   }
 
-  bool applyFault(const std::string& kind, bool active) {
+  bool applyFault(const std::string& kind, bool active) override {
     if (kind != "board_silent") return false;
     setSilent(active);
     plugged_ = !active;

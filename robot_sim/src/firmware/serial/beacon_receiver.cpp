@@ -88,7 +88,7 @@ class BeaconReceiverFirmware : public Firmware {
     slave_ = master_ = -1;
   }
 
-  bool applyFault(const std::string& kind, bool active) {
+  bool applyFault(const std::string& kind, bool active) override {
     if (kind == "serial_garbage") fault_garbage_ = active;
     else if (kind == "serial_truncate") fault_truncate_ = active;
     else if (kind == "board_silent") setSilent(active);
