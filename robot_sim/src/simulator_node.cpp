@@ -255,7 +255,7 @@ class Simulator {
     auto last_clock = Clock::now() - std::chrono::hours(1);
     auto last_report = Clock::now();
     double report_sim = anchor_sim;
-    int last_unknown = 0;
+    std::size_t last_unknown = 0;
     auto last_names_check = Clock::now();
     const auto clock_gap = std::chrono::duration<double>(1.0 / clock_max_rate_);
     while (running_ && ros::ok()) {
@@ -289,13 +289,12 @@ class Simulator {
       }
       if (now - last_names_check > std::chrono::seconds(1)) {
         // An emulator asking for a motor/sensor the robot lacks is a config mismatch: say so.
-        const int unknown = world_->unknownNameCount();
-        if (unknown > last_unknown) {
+        const auto unknown = world_->unknownNames();
+        if (unknown.size() > last_unknown) {  // once per new name, not per read
           std::string names;
-          for (const auto& n : world_->unknownNames()) names += (names.empty() ? "" : ", ") + n;
-          ROS_ERROR("simulator: %d reads/writes of names this robot does not have (sim/world/robot): %s",
-                    unknown - last_unknown, names.c_str());
-          last_unknown = unknown;
+          for (const auto& n : unknown) names += (names.empty() ? "" : ", ") + n;
+          ROS_ERROR("simulator: emulators use names this robot does not have (sim/world/robot): %s", names.c_str());
+          last_unknown = unknown.size();
         }
         last_names_check = now;
       }

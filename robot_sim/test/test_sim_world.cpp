@@ -99,6 +99,7 @@ TEST(SimWorld, UnknownNamesAreCountedNeverThrown) {
   EXPECT_EQ(w.encoderTicks("nope"), 0);
   EXPECT_FALSE(w.switchClosed("nope"));
   EXPECT_TRUE(std::isinf(w.measureRange("nope")));
+  EXPECT_EQ(w.encoderTicks(""), 0);  // "not connected": not counted
   EXPECT_EQ(w.unknownNameCount(), 4);
   const auto names = w.unknownNames();
   ASSERT_EQ(names.size(), 4u);

@@ -58,6 +58,7 @@ typename M::mapped_type* SimWorld::find(M& m, const std::string& name, const cha
 }
 
 void SimWorld::noteUnknown(const char* kind, const std::string& name) const {
+  if (name.empty()) return;  // "" is how an emulator config says "not connected"
   ++unknown_names_;
   if (unknown_list_.size() < 32) unknown_list_.insert(std::string(kind) + " '" + name + "'");
 }

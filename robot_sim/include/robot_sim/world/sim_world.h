@@ -87,7 +87,8 @@ class SimWorld : public World {
   std::vector<GameElement> elements() const;
   double trueRange(const std::string& ranger) const;  // noiseless, for tests
   // Names asked for that this robot does not have ("motor 'lft'"): a config mismatch between
-  // an emulator block and sim/world/robot, reported by the simulator.
+  // an emulator block and sim/world/robot, reported by the simulator. An empty name means
+  // "not connected": it reads 0 / false / +inf and is not counted.
   int unknownNameCount() const;
   std::vector<std::string> unknownNames() const;
 
