@@ -397,13 +397,14 @@ class LocalizationDevice : public Device {
       std::lock_guard<std::mutex> lk(filter_mutex_);
       // Everything up to `latency` before the newest odometry has arrived; without odometry
       // for a while, measurements are processed anyway after a longer wait.
-      double watermark;
+      double watermark, newest_any;
       {
         std::lock_guard<std::mutex> lk2(stamp_mutex_);
         watermark = newest_odom_ - latency_;
+        newest_any = newest_any_;
       }
       const double now = ros::Time::now().toSec();
-      if (now - 1.0 > watermark && newest_any_ > 0.0) watermark = std::max(watermark, std::min(newest_any_, now - 1.0));
+      if (now - 1.0 > watermark && newest_any > 0.0) watermark = std::max(watermark, std::min(newest_any, now - 1.0));
       for (auto& e : events_.takeUntil(watermark)) {
         if (apply(e.stamp, e.payload)) {
           filter_->update(e.stamp);
