@@ -62,6 +62,11 @@ class ScriptedRobot(object):
             return self.ox, self.oy, self.oth
 
     def _run(self):
+        # The device must see the robot's first odometry at the start pose (~initial_pose).
+        while not rospy.is_shutdown() and (self.odom_pub.get_num_connections() == 0 or
+                                           self.range_pub.get_num_connections() == 0):
+            time.sleep(0.05)
+        time.sleep(0.5)
         rate = rospy.Rate(100)
         while not rospy.is_shutdown():
             t = self.k * 0.01
