@@ -45,7 +45,7 @@ class HalSimTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_hal_sim')
-        cls.start = rospy.get_param('~start')
+        cls.start = rospy.get_param('/sim/world/robot/start')  # odom starts where the robot stood
         cls.truth = Latest('/sim/ground_truth', Odometry)
         cls.odom = Latest('/odom', Odometry)
         cls.cmd = rospy.Publisher('/hal/drive/cmd_vel', Twist, queue_size=1)
@@ -70,12 +70,13 @@ class HalSimTest(unittest.TestCase):
         o0 = self.odom.get().pose.pose.position
         th0 = yaw_of(self.odom.get().pose.pose.orientation)
         v = 0.0
-        while not rospy.is_shutdown():
+        deadline = time.monotonic() + 20.0  # a leg that never ends fails the route, not the test run
+        while not rospy.is_shutdown() and time.monotonic() < deadline:
             o = self.odom.get().pose.pose
             done = math.hypot(o.position.x - o0.x, o.position.y - o0.y)
             if done >= dist - 0.005:
                 break
-            target = min(speed, max(0.05, 1.5 * (dist - done)))
+            target = min(speed, max(0.12, 1.5 * (dist - done)))
             v = min(target, v + 0.02)  # ~1 m/s^2 at 50 Hz: gentle, little slip
             self.drive(v, 2.0 * wrap(th0 - yaw_of(o.orientation)))
             rospy.sleep(0.02)
@@ -84,11 +85,12 @@ class HalSimTest(unittest.TestCase):
 
     def turn(self, angle):
         th0 = yaw_of(self.odom.get().pose.pose.orientation)
-        while not rospy.is_shutdown():
+        deadline = time.monotonic() + 15.0
+        while not rospy.is_shutdown() and time.monotonic() < deadline:
             err = wrap(th0 + angle - yaw_of(self.odom.get().pose.pose.orientation))
-            if abs(err) < 0.01:
+            if abs(err) < 0.02:
                 break
-            self.drive(0.0, max(-1.5, min(1.5, 3.0 * err + math.copysign(0.2, err))))
+            self.drive(0.0, max(-1.5, min(1.5, 2.0 * err + math.copysign(0.6, err))))
             rospy.sleep(0.02)
         self.drive(0.0, 0.0)
         rospy.sleep(0.5)
