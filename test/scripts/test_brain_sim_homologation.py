@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""Homologation in simulation (test/launch/brain_sim_homologation_<robot>.test): the cord is
+pulled through the simulator's start switch, the real HMI device reports it, the brain
+starts the homologation strategy, and the simulator's referee counts a score."""
+import sys
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from robot_sim.msg import MatchState
+from robot_sim.srv import SetSwitch
+from smart_brain.msg import MatchStatus
+
+
+class Latest(object):
+    def __init__(self, topic, msg_type):
+        self.msg = None
+        self.lock = threading.Lock()
+        rospy.Subscriber(topic, msg_type, self._cb, queue_size=1)
+
+    def _cb(self, msg):
+        with self.lock:
+            self.msg = msg
+
+
+def wait_for(pred, timeout, step=0.1):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if pred():
+            return True
+        time.sleep(step)
+    return bool(pred())
+
+
+class SimHomologationTest(unittest.TestCase):
+    def test_homologation_scores(self):
+        rospy.init_node('test_brain_sim_homologation')
+        brain = Latest('/brain/match_status', MatchStatus)
+        referee = Latest('/sim/match', MatchState)
+        self.assertTrue(wait_for(lambda: brain.msg is not None and brain.msg.state == 'waiting_for_start', 120.0),
+                        'the brain never waited for the start: %s' % brain.msg)
+        self.assertTrue(wait_for(lambda: referee.msg is not None, 10.0))
+        time.sleep(3.0)   # localization settles at the start pose
+        initial = referee.msg.score   # elements may already lie in scoring zones
+        rospy.wait_for_service('/sim/set_switch', 10.0)
+        res = rospy.ServiceProxy('/sim/set_switch', SetSwitch)('start_cord', False)
+        self.assertTrue(res.ok, res.message)
+        self.assertTrue(wait_for(lambda: brain.msg.state == 'running', 5.0), 'the cord did not start the brain')
+        scored = wait_for(lambda: referee.msg.score > initial, 80.0, 0.5)
+        self.assertTrue(scored, 'no point scored in 80 s (initial score %d, referee: %s)' % (initial, referee.msg))
+
+
+if __name__ == '__main__':
+    rostest.rosrun('system_tests', 'brain_sim_homologation', SimHomologationTest, sys.argv)
