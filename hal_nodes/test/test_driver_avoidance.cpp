@@ -47,6 +47,9 @@ TEST(Avoidance, OffTheRouteOrTooFarAheadDoesNotBlock) {
   EXPECT_TRUE(a.check(kRoute, {{1.6, 1.0}}).blocked);    // touching from 0.67 m on: within 0.7 m
   EXPECT_FALSE(a.check(kRoute, {}).blocked);
   EXPECT_FALSE(a.check({{0.5, 1.0}}, {{0.6, 1.0}}).blocked);  // no route left
+  EXPECT_FALSE(a.check(kRoute, {{0.3, 1.1}}).blocked);   // behind the robot
+  EXPECT_FALSE(a.check(kRoute, {{0.5, 1.3}}).blocked);   // level with it, beside
+  EXPECT_TRUE(a.check(kRoute, {{0.6, 1.3}}).blocked);    // beside but ahead: the footprint would touch
 }
 
 TEST(Avoidance, NearestOfSeveralAndAlongABend) {

@@ -4,7 +4,8 @@
 // along the sampled curve). An obstacle point (a ranger echo or the tracked opponent, in the
 // map) blocks it when our footprint, moving along the route, would come within `clearance()`
 // of it in the first `detection_distance` metres (Hit::along: where that starts).
-// Echoes within `border_margin` of the table edge are the border, not the opponent.
+// Echoes within `border_margin` of the table edge are the border, not the opponent; points
+// level with or behind the robot (on the route's first leg) are not in its way.
 // The driver then either brakes to a stop within `braking_distance` and waits (mode STOP), or
 // inserts a detour of two waypoints beside the obstacle on the side that stays on the table
 // (mode DETOUR), falling back to a stop when neither side fits. Pure geometry, tested alone.

@@ -19,9 +19,9 @@ namespace hal_nodes {
 namespace driver {
 
 struct PathFollowerConfig {
-  double convergence_distance = 0.1;  // [m] distance over which an offset from the curve is taken back
+  double convergence_distance = 0.15; // [m] distance over which an offset from the curve is taken back
   double sample_step = 0.005;    // [m] spacing of the curve's samples
-  double max_lateral_accel = 0.8;  // [m/s^2] speed in bends: v^2 * curvature stays under it
+  double max_lateral_accel = 0.3;  // [m/s^2] speed in bends: v^2 * curvature stays under it
 
   std::string invalidReason() const;  // empty when usable
 };

@@ -59,6 +59,7 @@ Avoidance::Hit Avoidance::check(const std::vector<Point2D>& route, const std::ve
       const double tp = (o.x - a.x) * u.x + (o.y - a.y) * u.y;
       const double h = std::fabs(-(o.x - a.x) * u.y + (o.y - a.y) * u.x);
       if (h >= clearance) continue;
+      if (i == 0 && tp <= 0.0) continue;  // beside or behind the robot: not in the way of where it goes
       const double half = std::sqrt(clearance * clearance - h * h);
       if (tp + half < 0.0 || tp - half > usable) continue;
       const double along = s0 + std::max(0.0, tp - half);
