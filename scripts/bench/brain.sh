@@ -3,7 +3,7 @@
 # to zero speed commanded on /hal/drive/cmd_vel (p50/p99), and the brain node's CPU use.
 # Runs the real brain node (strategy brain_bench_idle from test/scripts, triggers from
 # config/eurobot2009.yaml) on a private ROS master; the bench plays the front ranger
-# (sensor_msgs/Range on /hal/rangers/front_left). It measures the brain's share only: the
+# (sensor_msgs/Range on /hal/rangers/sharp_front_left). It measures the brain's share only: the
 # simulator's ground truth -> motor board emulator path needs the full simulated robot.
 # Run from the repo root with the workspace sourced. Prints figures, exits 0.
 set -uo pipefail
@@ -22,7 +22,7 @@ rosparam set /brain/strategy brain_bench_idle
 rosparam set /brain/strategy_modules "[test_brain_strategies]"
 rosparam set /brain/match/start immediate
 rosparam set /brain/match/duration 1000
-rosparam set /brain/triggers "{opponent_ahead: {rangers: [front_left], distance: 0.25, max_age: 0.5, holdoff: 0.2, clear_time: 0.1, max_wait: 5.0}}"
+rosparam set /brain/triggers "{opponent_ahead: {rangers: [sharp_front_left], distance: 0.25, max_age: 0.5, holdoff: 0.2, clear_time: 0.1, max_wait: 5.0}}"
 rosrun smart_brain brain >"$log/brain.log" 2>&1 &
 brain=$!
 python3 - "$brain" <<'PY'
@@ -38,7 +38,7 @@ def on_twist(m):
     if m.linear.x == 0.0 and m.angular.z == 0.0:
         zero.set()
 rospy.Subscriber('/hal/drive/cmd_vel', Twist, on_twist, queue_size=10)
-pub = rospy.Publisher('/hal/rangers/front_left', Range, queue_size=1)
+pub = rospy.Publisher('/hal/rangers/sharp_front_left', Range, queue_size=1)
 
 def rng(r):
     m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5, min_range=0.03, max_range=2.5, range=r)
