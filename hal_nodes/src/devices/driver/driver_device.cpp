@@ -13,7 +13,7 @@
 // cancel / new goal (zero published at once, in the callback); localization older than
 // ~max_pose_age or below ~min_probability or lost (goto, follow_path); odometry older than
 // ~max_odom_age (go_straight, rotate_by); the drive effector's /diagnostics status
-// (~motor_status, a status-name prefix, default "/hal/drive:"; "" disables) at ERROR; /effectors/deactivate (this is an Effector);
+// (~motor_status, a status-name prefix, default "hal/drive:"; "" disables) at ERROR; /effectors/deactivate (this is an Effector);
 // the goal's own timeout. Every controlled command goes through the VelocityLimiter
 // (~limits/*); only the stop itself skips the deceleration ramp.
 //
@@ -162,7 +162,9 @@ class Driver : public Effector {
     requirePositive(p, "max_odom_age", max_odom_age_);
     min_probability_ = optionalDouble(p, "min_probability", 0.5);
     hcl_drivers::requireInRange(p, "min_probability", min_probability_, 0.0, 1.0);
-    motor_status_ = optionalString(p, "motor_status", "/hal/drive:");
+    motor_status_ = optionalString(p, "motor_status", "hal/drive:");
+    // diagnostic_updater names a status "<node name without its leading slash>: <task>".
+    if (!motor_status_.empty() && motor_status_[0] == '/') motor_status_.erase(0, 1);
     base_frame_ = optionalString(p, "base_frame", "base_link");
     map_frame_ = optionalString(p, "map_frame", "map");
 
@@ -335,7 +337,8 @@ class Driver : public Effector {
 
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
     for (const auto& s : msg->status) {
-      if (s.name.compare(0, motor_status_.size(), motor_status_) != 0) continue;
+      const std::size_t skip = (!s.name.empty() && s.name[0] == '/') ? 1 : 0;  // either naming form
+      if (s.name.compare(skip, motor_status_.size(), motor_status_) != 0) continue;
       motor_fault_ = s.level >= diagnostic_msgs::DiagnosticStatus::ERROR;
       motor_fault_message_ = s.name + ": " + s.message;
     }
