@@ -1,6 +1,7 @@
 # The project's commands. Everything runs as root on Debian bookworm, with Debian's
 # python3 first on PATH (the machine's own python3 has no ROS modules).
-#   make run [ROBOT=skeleton]   install, build, start a simulated robot headless
+#   make run [ROBOT=eurobot2009]  install, build, run one simulated match headless (also
+#                               logion; skeleton runs until Ctrl-C), print bag and report paths
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
@@ -10,8 +11,10 @@ SHELL := /bin/bash
 export PATH := /usr/bin:/bin:/usr/sbin:/sbin:$(PATH)
 export PYTHONNOUSERSITE := 1
 export ROS_PYTHON_VERSION := 3
+# Only C++ and Python messages are used: skip the Lisp, EusLisp and JavaScript generators.
+export ROS_LANG_DISABLE := genlisp:geneus:gennodejs
 
-ROBOT ?= skeleton
+ROBOT ?= eurobot2009
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 JOBS ?= 2
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -51,8 +54,7 @@ build: deps
 	  -DCATKIN_ENABLE_TESTING=ON
 
 run: build
-	@echo "run: starting the simulated $(ROBOT) robot headless (Ctrl-C to stop)"
-	$(SETUP) && roslaunch $(ROOT)/launch/$(ROBOT).launch
+	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT)
 
 test: build
 	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_tests.sh

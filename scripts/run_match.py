@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""`make run`: one simulated match of a robot, headless, from start cord to report.
+
+    scripts/run_match.py ROBOT [--out DIR] [--strategy NAME] [--seed N]
+
+Starts launch/ROBOT.launch (simulator, HCL, HAL, brain) with record:=true, waits until the
+brain is waiting for the start, pulls the start cord (as a team member would: the simulated
+cord switch, read by the boards, the HMI device and the brain), follows the match clock,
+stops everything once the brain reports the match ended, and writes the match report.
+Prints where the bag and the report are. Robots without a match (skeleton) just run.
+"""
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def log(msg):
+    print('run: ' + msg, flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('robot')
+    ap.add_argument('--out', default=os.path.join(ROOT, 'report'), help='where the bag and report go')
+    ap.add_argument('--strategy', default=None)
+    ap.add_argument('--seed', default='1')
+    ap.add_argument('--startup-timeout', type=float, default=120.0, help='[s, wall] to reach waiting_for_start')
+    ap.add_argument('--match-timeout', type=float, default=400.0, help='[s, wall] for the match to end')
+    args = ap.parse_args()
+
+    launch = os.path.join(ROOT, 'launch', args.robot + '.launch')
+    if not os.path.exists(launch):
+        robots = sorted(f[:-7] for f in os.listdir(os.path.join(ROOT, 'launch')) if f.endswith('.launch')
+                        and f != 'replay.launch')
+        sys.exit('run: ROBOT=%s: no launch/%s.launch; allowed values: %s' % (args.robot, args.robot, ', '.join(robots)))
+    if args.robot == 'skeleton':
+        log('starting the skeleton robot (example board, device and strategy); Ctrl-C to stop')
+        os.execvp('roslaunch', ['roslaunch', launch])
+
+    os.makedirs(args.out, exist_ok=True)
+    bag = os.path.join(args.out, args.robot + '_match.bag')
+    png = os.path.join(args.out, args.robot + '_match.png')
+    for stale in (bag, bag + '.active'):
+        if os.path.exists(stale):
+            os.remove(stale)
+    cmd = ['roslaunch', launch, 'record:=true', 'bag:=' + bag, 'seed:=' + args.seed]
+    if args.strategy:
+        cmd.append('strategy:=' + args.strategy)
+    log('starting the simulated %s robot headless: %s' % (args.robot, ' '.join(cmd[2:])))
+    launch_log = open(os.path.join(args.out, args.robot + '_launch.log'), 'w')
+    proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=os.setsid)
+    try:
+        ended = follow_match(args)
+    finally:
+        log('stopping the robot')
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+    log('launch output: %s' % launch_log.name)
+    if not os.path.exists(bag):
+        sys.exit('run: no bag was written (%s); see the launch output' % bag)
+    log('writing the match report')
+    rc = subprocess.call([sys.executable, os.path.join(ROOT, 'scripts', 'match_report.py'), bag, '-o', png])
+    log('bag: %s' % bag)
+    if rc == 0:
+        log('report: %s' % png)
+    return 0 if (ended and rc == 0) else 1
+
+
+def follow_match(args):
+    import rospy
+    deadline = time.monotonic() + args.startup_timeout
+    while True:  # roslaunch brings the master up
+        try:
+            rospy.init_node('run_match', anonymous=True, disable_signals=True)
+            break
+        except Exception:
+            if time.monotonic() > deadline:
+                raise SystemExit('run: no ROS master after %.0f s' % args.startup_timeout)
+            time.sleep(1.0)
+    from smart_brain.msg import MatchStatus
+    status = {'msg': None}
+    rospy.Subscriber('/brain/match_status', MatchStatus, lambda m: status.__setitem__('msg', m), queue_size=1)
+
+    def state():
+        return status['msg'].state if status['msg'] else None
+
+    while state() != 'waiting_for_start':
+        if time.monotonic() > deadline:
+            log('the brain never became ready to start (state %r); see the launch output' % state())
+            return False
+        time.sleep(0.5)
+    log('brain ready (strategy %s); pulling the start cord' % status['msg'].strategy)
+    from robot_sim.srv import SetSwitch
+    rospy.wait_for_service('/sim/set_switch', timeout=30)
+    rospy.ServiceProxy('/sim/set_switch', SetSwitch)(name='start_cord', closed=False)
+    deadline = time.monotonic() + args.match_timeout
+    last = -10.0
+    while state() != 'ended':
+        if time.monotonic() > deadline:
+            log('the match did not end within %.0f s' % args.match_timeout)
+            return False
+        m = status['msg']
+        if m and m.elapsed - last >= 10.0:
+            last = m.elapsed
+            log('match %s: %.0f s elapsed, %.0f s left' % (m.state, m.elapsed, m.remaining))
+        time.sleep(0.5)
+    log('match ended; effectors deactivated: %s' % status['msg'].effectors_deactivated)
+    time.sleep(2.0)  # let the recorder write the last messages
+    return True
+
+
+if __name__ == '__main__':
+    sys.exit(main())
