@@ -4,6 +4,11 @@ import threading
 import time
 import unittest
 
+import os  # noqa: E402
+import sys  # noqa: E402
+
+# catkin runs nose without adding this folder to the path; the shared helpers live here.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sm_helpers import Sleeper
 from smart_brain import strategy as strategies
 from smart_brain.match_timer import MatchTimer
