@@ -101,6 +101,15 @@ def follow_match(args):
     from robot_sim.srv import SetSwitch
     rospy.wait_for_service('/sim/set_switch', timeout=30)
     rospy.ServiceProxy('/sim/set_switch', SetSwitch)(name='start_cord', closed=False)
+    cord_deadline = time.monotonic() + 10.0
+    while state() == 'waiting_for_start' and time.monotonic() < cord_deadline:
+        time.sleep(0.2)
+    if state() == 'waiting_for_start':
+        # Known defect (see the issue notes): the simulated cord does not reach the HMI device.
+        log('WARNING: the start cord did not start the match within 10 s; starting it through /brain/start')
+        from std_srvs.srv import Trigger
+        rospy.wait_for_service('/brain/start', timeout=10)
+        rospy.ServiceProxy('/brain/start', Trigger)()
     deadline = time.monotonic() + args.match_timeout
     last = -10.0
     while state() != 'ended':
