@@ -120,6 +120,12 @@ class DriverDeviceTest(unittest.TestCase):
 
     def assertStoppedAfter(self, t0, within=0.1):
         """The last command is zero and it came within `within` s of t0."""
+        # The zero command and the action result travel on different connections: the result can be
+        # handled here first, so wait (a bounded time) for the command to be delivered too. The latency
+        # below is still measured from the command's arrival.
+        deadline = time.monotonic() + 1.0
+        while time.monotonic() < deadline and not [c for c in self.robot.commands_since(t0) if c[1:] == (0.0, 0.0)]:
+            time.sleep(0.005)
         cmds = self.robot.commands_since(t0)
         self.assertTrue(cmds, 'no command after t0')
         zero = [c for c in cmds if c[1] == 0.0 and c[2] == 0.0]
