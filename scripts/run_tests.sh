@@ -23,20 +23,30 @@ grep -vE '^\s*$' build/test_summary.txt | tail -n 60
 python3 - "$lint_problems" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET
 total = failed = skipped = 0
-for f in glob.glob('build/test_results/**/*.xml', recursive=True):
+failures = []  # (file, case, first lines of the message): printed last, where a cut log still shows them
+for f in sorted(glob.glob('build/test_results/**/*.xml', recursive=True)):
     try:
         root = ET.parse(f).getroot()
-    except ET.ParseError:
+    except ET.ParseError as e:
         failed += 1
+        failures.append((f, '(unreadable result file)', str(e)))
         continue
     suites = [root] if root.tag == 'testsuite' else root.iter('testsuite')
     for s in suites:
         for case in s.iter('testcase'):
             total += 1
-            if case.find('failure') is not None or case.find('error') is not None:
+            bad = case.find('failure')
+            if bad is None:
+                bad = case.find('error')
+            if bad is not None:
                 failed += 1
+                text = (bad.get('message') or '') + '\n' + (bad.text or '')
+                lines = [l for l in text.splitlines() if l.strip()]
+                failures.append((f, case.get('name'), '\n      '.join(lines[-6:])))
             elif case.find('skipped') is not None:
                 skipped += 1
+for f, case, why in failures:
+    print('FAILED %s :: %s\n      %s' % (f.replace('build/test_results/', ''), case, why[-1500:]))
 lint = int(sys.argv[1])
 if lint:
     print('catkin_lint: %d problem(s)' % lint)
