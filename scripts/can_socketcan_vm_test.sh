@@ -7,8 +7,9 @@
 # board's state topic. Where the kernel has AF_CAN and vcan, the inner script runs directly.
 #
 #   scripts/can_socketcan_vm_test.sh [junit.xml] [devel space] [auto]     (as root)
-# Needs (installed on demand, also by `make deps`): linux-image-amd64, qemu-system-x86,
-# busybox-static, virtme-ng (pip, into build/can_vm_venv).
+# Needs (installed here on demand, only when the VM runs; `make deps` does not install them):
+# linux-image-amd64, qemu-system-x86, busybox-static, python3-venv, virtme-ng (pip, into
+# build/can_vm_venv).
 # This host exposes no hardware virtualisation to us (/dev/kvm but no vmx/svm: KVM fails), so
 # the VM runs in software emulation: ~2 min to boot to vcan0 on an idle machine, 4-7 min with
 # ROS inside on a loaded one. With `auto` (how `make test` calls it) the VM only runs when
@@ -56,8 +57,10 @@ elif [ "$mode" = auto ] && [ "${CAN_VM_TEST:-0}" != 1 ]; then
   finish
 else
   kernel=$(ls /boot/vmlinuz-* 2>/dev/null | sort -V | tail -n 1)
-  if [ -z "$kernel" ] || ! command -v qemu-system-x86_64 >/dev/null || ! command -v busybox >/dev/null; then
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends linux-image-amd64 qemu-system-x86 busybox-static >/dev/null 2>&1
+  if [ -z "$kernel" ] || ! command -v qemu-system-x86_64 >/dev/null || ! command -v busybox >/dev/null ||
+     ! dpkg -s python3-venv >/dev/null 2>&1; then
+    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+        linux-image-amd64 qemu-system-x86 busybox-static python3-venv; } >/dev/null 2>&1
     kernel=$(ls /boot/vmlinuz-* 2>/dev/null | sort -V | tail -n 1)
   fi
   venv=$root/build/can_vm_venv
