@@ -56,6 +56,19 @@ uint32_t CanopenBoard::cobIdParam(const ros::NodeHandle& pnh, const std::string&
   return static_cast<uint32_t>(v);
 }
 
+bool CanopenBoard::requestPdos(const std::vector<PdoRequest>& pdos, const std::function<bool()>& arrived,
+                               const std::string& board) {
+  for (const auto& p : pdos)
+    if (!node_->requestPdo(p.cob_id, p.dlc)) {
+      fail("sending RTR: " + node_->lastError());
+      return false;
+    }
+  if (node_->waitFor(arrived, answer_timeout_)) return true;
+  fail(board + " (node " + std::to_string(node_id_) + ") did not answer the " + (pdos.size() == 1 ? "RTR" : "RTRs") +
+       " within " + std::to_string(static_cast<int>(answer_timeout_ * 1e3)) + " ms");
+  return false;
+}
+
 bool CanopenBoard::acceptCommand(const char* what) {
   if (answering_) return true;
   ++refused_;

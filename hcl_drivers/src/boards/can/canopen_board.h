@@ -15,6 +15,7 @@
 #include <hcl_drivers/CanNodeStatus.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 
@@ -54,6 +55,15 @@ class CanopenBoard : public Board {
   double answerTimeout() const { return answer_timeout_; }
   double commandTimeout() const { return command_timeout_; }
   double sdoTimeout() const { return sdo_timeout_; }
+  // One TPDO to request by RTR: its COB-ID and data length.
+  struct PdoRequest {
+    uint32_t cob_id;
+    uint8_t dlc;
+  };
+  // The poll's request/answer step every board shares: sends an RTR for each of `pdos`, then
+  // dispatches frames until `arrived()` (the handlers saw every answer) or ~answer_timeout.
+  // False after fail(): "sending RTR: ..." or "<board> (node N) did not answer the RTR(s) within M ms".
+  bool requestPdos(const std::vector<PdoRequest>& pdos, const std::function<bool()>& arrived, const std::string& board);
   // ~<name> as a COB-ID (1..0x7FF), default `fallback`.
   uint32_t cobIdParam(const ros::NodeHandle& pnh, const std::string& name, uint32_t fallback);
   // True when the board answers; otherwise counts the refusal and logs `what` (throttled).

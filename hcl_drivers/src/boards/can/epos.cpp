@@ -106,21 +106,13 @@ class Epos : public CanopenBoard {
       std::lock_guard<std::mutex> lk(mutex_);
       got_status_ = got_feedback_ = false;
     }
-    if (!node().requestPdo(status_cob_, 5) || !node().requestPdo(feedback_cob_, 8)) {
-      fail("sending RTR: " + node().lastError());
-      return false;
-    }
-    const bool ok = node().waitFor(
-        [this] {
-          std::lock_guard<std::mutex> lk(mutex_);
-          return got_status_ && got_feedback_;
-        },
-        answerTimeout());
-    if (!ok) {
-      fail("EPOS (node " + std::to_string(nodeId()) + ") did not answer the RTRs within " +
-           std::to_string(static_cast<int>(answerTimeout() * 1e3)) + " ms");
-      return false;
-    }
+    const bool answered = requestPdos({{status_cob_, 5}, {feedback_cob_, 8}},
+                                      [this] {
+                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        return got_status_ && got_feedback_;
+                                      },
+                                      "EPOS");
+    if (!answered) return false;
     uint16_t cw = 0;
     int32_t rpm = 0;
     {

@@ -81,18 +81,13 @@ class HmiBoard : public CanopenBoard {
         configure();  // unknown what arrived: send it all again
         return false;
       }
-    if (!node().requestPdo(keys_cob_, 4)) {
-      fail("sending RTR: " + node().lastError());
-      return false;
-    }
-    if (!node().waitFor([this] {
-          std::lock_guard<std::mutex> lk(mutex_);
-          return got_keys_;
-        }, answerTimeout())) {
-      fail("HMI board (node " + std::to_string(nodeId()) + ") did not answer the RTR within " +
-           std::to_string(static_cast<int>(answerTimeout() * 1e3)) + " ms");
-      return false;
-    }
+    const bool answered = requestPdos({{keys_cob_, 4}},
+                                      [this] {
+                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        return got_keys_;
+                                      },
+                                      "HMI board");
+    if (!answered) return false;
     publishState();
     return true;
   }

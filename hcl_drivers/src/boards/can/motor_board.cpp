@@ -83,21 +83,13 @@ class MotorBoard : public CanopenBoard {
       got_encoders_ = got_status_ = false;
       sent_ = pwm;
     }
-    if (!node().requestPdo(encoder_cob_, 8) || !node().requestPdo(status_cob_, 5)) {
-      fail("sending RTR: " + node().lastError());
-      return false;
-    }
-    const bool ok = node().waitFor(
-        [this] {
-          std::lock_guard<std::mutex> lk(mutex_);
-          return got_encoders_ && got_status_;
-        },
-        answerTimeout());
-    if (!ok) {
-      fail("motor board (node " + std::to_string(nodeId()) + ") did not answer the RTRs within " +
-           std::to_string(static_cast<int>(answerTimeout() * 1e3)) + " ms");
-      return false;
-    }
+    const bool answered = requestPdos({{encoder_cob_, 8}, {status_cob_, 5}},
+                                      [this] {
+                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        return got_encoders_ && got_status_;
+                                      },
+                                      "motor board");
+    if (!answered) return false;
     publishState();
     return true;
   }

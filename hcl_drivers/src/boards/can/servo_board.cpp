@@ -80,22 +80,17 @@ class ServoBoard : public CanopenBoard {
       pulse = pulse_;
       got_adc_ = got_switches_ = false;
     }
-    if (!node().sendRaw(servo_board::encodeServos(servo_cob_, pulse)) || !node().requestPdo(ranger_cob_, 8) ||
-        !node().requestPdo(switch_cob_, 2)) {
-      fail("sending: " + node().lastError());
+    if (!node().sendRaw(servo_board::encodeServos(servo_cob_, pulse))) {
+      fail("sending the servo positions: " + node().lastError());
       return false;
     }
-    const bool ok = node().waitFor(
-        [this] {
-          std::lock_guard<std::mutex> lk(mutex_);
-          return got_adc_ && got_switches_;
-        },
-        answerTimeout());
-    if (!ok) {
-      fail("servo board (node " + std::to_string(nodeId()) + ") did not answer the RTRs within " +
-           std::to_string(static_cast<int>(answerTimeout() * 1e3)) + " ms");
-      return false;
-    }
+    const bool answered = requestPdos({{ranger_cob_, 8}, {switch_cob_, 2}},
+                                      [this] {
+                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        return got_adc_ && got_switches_;
+                                      },
+                                      "servo board");
+    if (!answered) return false;
     publishState();
     return true;
   }

@@ -72,21 +72,13 @@ class StepperBoard : public CanopenBoard {
       std::lock_guard<std::mutex> lk(mutex_);
       got_position_ = got_switches_ = false;
     }
-    if (!node().requestPdo(position_cob_, 8) || !node().requestPdo(switch_cob_, 2)) {
-      fail("sending RTR: " + node().lastError());
-      return false;
-    }
-    const bool ok = node().waitFor(
-        [this] {
-          std::lock_guard<std::mutex> lk(mutex_);
-          return got_position_ && got_switches_;
-        },
-        answerTimeout());
-    if (!ok) {
-      fail("stepper board (node " + std::to_string(nodeId()) + ") did not answer the RTRs within " +
-           std::to_string(static_cast<int>(answerTimeout() * 1e3)) + " ms");
-      return false;
-    }
+    const bool answered = requestPdos({{position_cob_, 8}, {switch_cob_, 2}},
+                                      [this] {
+                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        return got_position_ && got_switches_;
+                                      },
+                                      "stepper board");
+    if (!answered) return false;
     std::array<int32_t, stepper_board::kSteppers> t{};
     bool any = false;
     {
