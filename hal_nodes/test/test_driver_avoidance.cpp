@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "hal_nodes/driver/avoidance.h"
 
@@ -96,4 +97,36 @@ TEST(Avoidance, DetourNearTheEdgeTakesTheOtherSideOrNone) {
   // Opponents on both sides of the way: no detour, the driver stops.
   const std::vector<Point2D> wall = {{1.1, 1.0}, {1.1, 1.5}, {1.1, 0.5}};
   EXPECT_FALSE(a.detour(a.check(kRoute, wall), wall, &wps));
+}
+
+// A wide ultrasonic cone (SRF02, 0.96 rad) sees a border off its axis; placed on the axis the
+// echo would land inside the table, on the route. The border range over the cone explains it.
+TEST(Avoidance, BorderSeenOffAxisIsExplained) {
+  AvoidanceConfig c = config();
+  c.table_length = 3.0;
+  c.table_width = 2.1;
+  c.border_echo_tolerance = 0.1;
+  const Avoidance a(c);
+  // Sensor at (1.5, 1.7) looking 45 deg left of +x: the axis reaches the y = 2.1 border at
+  // 0.4 * sqrt(2) = 0.566 m, but the cone's edge (45 + 27.5 deg) reaches it at 0.4 / sin(72.5) = 0.419 m.
+  const Pose2D sensor{1.5, 1.7, M_PI / 4};
+  EXPECT_NEAR(a.borderRange(sensor, 0.96), 0.4 / std::sin(M_PI / 4 + 0.48), 1e-9);
+  EXPECT_TRUE(a.borderExplains(sensor, 0.96, 0.42));
+  EXPECT_TRUE(a.borderExplains(sensor, 0.96, 0.35));  // within the tolerance (filter lag, localization error)
+  // That echo placed on the axis is inside the table, 0.30 m from the border: not dropped by border_margin.
+  EXPECT_TRUE(a.plausibleObstacle({1.5 + 0.42 * std::cos(M_PI / 4), 1.7 + 0.42 * std::sin(M_PI / 4)}));
+  // The opponent, clearly nearer than any border in the cone: kept.
+  EXPECT_FALSE(a.borderExplains(sensor, 0.96, 0.25));
+  // A narrow beam straight at the border reads the perpendicular distance.
+  EXPECT_NEAR(a.borderRange({1.5, 1.7, M_PI / 2}, 0.08), 0.4, 1e-9);
+  // A wall normal inside the cone is its closest point.
+  EXPECT_NEAR(a.borderRange({2.8, 1.0, 0.3}, 0.96), 0.2, 1e-9);
+}
+
+TEST(Avoidance, OpponentInTheMiddleOfTheTableIsNotTheBorder) {
+  const Avoidance a(config());
+  // Looking along +x from the middle: the border is 1.3 m away, an echo at 0.5 m is something else.
+  EXPECT_NEAR(a.borderRange({1.7, 1.05, 0.0}, 0.96), 1.3, 1e-9);
+  EXPECT_FALSE(a.borderExplains({1.7, 1.05, 0.0}, 0.96, 0.5));
+  EXPECT_TRUE(a.borderExplains({1.7, 1.05, 0.0}, 0.96, std::numeric_limits<double>::infinity()));
 }

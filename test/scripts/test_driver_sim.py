@@ -124,7 +124,7 @@ class DriverSimTest(unittest.TestCase):
         self.assertEqual(self.follow.get_state(), GoalStatus.SUCCEEDED, r.message)
         self.assertEqual(r.checkpoints_passed, 6)
         curve = [(p.pose.position.x, p.pose.position.y) for p in self.path_msgs.last().poses]
-        worst = 0.0
+        worst, worst_at = 0.0, (0.0, 0.0)
         for _, m in self.truth.since(t0):
             px, py = m.pose.pose.position.x, m.pose.pose.position.y
             best = 1e9
@@ -132,9 +132,10 @@ class DriverSimTest(unittest.TestCase):
                 l2 = (bx - ax) ** 2 + (by - ay) ** 2
                 t = max(0.0, min(1.0, ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / l2)) if l2 > 0 else 0.0
                 best = min(best, math.hypot(ax + t * (bx - ax) - px, ay + t * (by - ay) - py))
-            worst = max(worst, best)
-        print('%s path: driver max cross-track %.1f mm, truth max distance to the curve %.1f mm'
-              % (self.robot, 1e3 * r.max_cross_track_error, 1e3 * worst))
+            if best > worst:
+                worst, worst_at = best, (px, py)
+        print('%s path in %.1f s: driver max cross-track %.1f mm, truth max distance to the curve %.1f mm at (%.2f, %.2f)'
+              % (self.robot, time.monotonic() - t0, 1e3 * r.max_cross_track_error, 1e3 * worst, worst_at[0], worst_at[1]))
         self.assertLessEqual(r.max_cross_track_error, 0.030)
         self.assertLessEqual(worst, 0.030)
 

@@ -2,6 +2,9 @@
 // curvature (feedforward) plus feedback on the lateral and heading errors from the closest
 // point, tuned as a critically damped approach over `convergence_distance` whatever the speed:
 //   w = v * kappa + v * e_y / D^2 + 2 * v / D * e_theta
+// kappa is taken `lookahead_time` ahead along the curve (at the current speed): the wheels
+// answer a command only after the motor and pipeline lag, so steering for the bend that is
+// reached then keeps the robot on the curve where the curvature changes (bend entries/exits).
 // Speed comes from the Autopilot's speed curve on the arc length left, capped so every bend
 // ahead can be taken under `max_lateral_accel` and the turn-rate limit. Past the end of the
 // curve the reference is the final tangent, so the robot arrives on it without weaving.
@@ -22,6 +25,7 @@ struct PathFollowerConfig {
   double convergence_distance = 0.15; // [m] distance over which an offset from the curve is taken back
   double sample_step = 0.005;    // [m] spacing of the curve's samples
   double max_lateral_accel = 0.3;  // [m/s^2] speed in bends: v^2 * curvature stays under it
+  double lookahead_time = 0.0;     // [s] feed-forward curvature taken this far ahead (the actuation lag)
 
   std::string invalidReason() const;  // empty when usable
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hal_nodes {
 namespace driver {
@@ -14,6 +15,7 @@ std::string AvoidanceConfig::invalidReason() const {
   if (!(detection_distance >= braking_distance + clearance()))
     return "detection_distance must be >= braking_distance + robot_radius + opponent_radius + margin";
   if (!(border_margin >= 0.0)) return "border_margin must be >= 0";
+  if (!(border_echo_tolerance >= 0.0)) return "border_echo_tolerance must be >= 0";
   if (!(table_length > 0.0 && table_width > 0.0)) return "table size must be > 0";
   if (!(blocked_timeout > 0.0)) return "blocked_timeout must be > 0";
   if (max_detours < 0) return "max_detours must be >= 0";
@@ -36,6 +38,32 @@ bool Avoidance::plausibleObstacle(const Point2D& p) const {
   const double b = config_.border_margin;
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x > b && p.y > b && p.x < config_.table_length - b &&
          p.y < config_.table_width - b;
+}
+
+double Avoidance::borderRange(const Pose2D& sensor, double field_of_view) const {
+  const double x = sensor.x, y = sensor.y, L = config_.table_length, W = config_.table_width;
+  if (!(x > 0.0 && y > 0.0 && x < L && y < W)) return 0.0;  // off the table: everything is "border"
+  auto ray = [&](double a) {
+    const double dx = std::cos(a), dy = std::sin(a);
+    double d = std::numeric_limits<double>::infinity();
+    if (dx > 1e-12) d = std::min(d, (L - x) / dx);
+    if (dx < -1e-12) d = std::min(d, -x / dx);
+    if (dy > 1e-12) d = std::min(d, (W - y) / dy);
+    if (dy < -1e-12) d = std::min(d, -y / dy);
+    return d;
+  };
+  // Inside a rectangle the distance to its edge along a ray, as a function of the ray's angle,
+  // is smallest at a wall's normal or at the cone's edges: checking those is exact.
+  const double half = 0.5 * std::max(0.0, field_of_view);
+  double best = std::min(ray(sensor.theta - half), ray(sensor.theta + half));
+  const double normals[4] = {0.0, 0.5 * M_PI, M_PI, -0.5 * M_PI};
+  for (double n : normals)
+    if (std::fabs(normalizeAngle(n - sensor.theta)) <= half) best = std::min(best, ray(n));
+  return best;
+}
+
+bool Avoidance::borderExplains(const Pose2D& sensor, double field_of_view, double range) const {
+  return range >= borderRange(sensor, field_of_view) - config_.border_echo_tolerance;
 }
 
 bool Avoidance::fits(const Point2D& p) const {

@@ -18,7 +18,8 @@
 // (~limits/*); only the stop itself skips the deceleration ramp.
 //
 // Avoidance (~avoidance/*): obstacle points from the rangers (~avoidance/rangers: names on
-// ~avoidance/ranger_prefix, placed with tf from base_link) and an optional tracked opponent
+// ~avoidance/ranger_prefix, placed with tf from base_link; an echo matching the table border
+// anywhere in the ranger's field_of_view, within ~avoidance/border_echo_tolerance, is dropped) and an optional tracked opponent
 // (~avoidance/opponent_topic, geometry_msgs/PointStamped in map). Mode `stop` brakes within
 // ~avoidance/braking_distance and waits up to ~avoidance/blocked_timeout; `detour` inserts two
 // waypoints beside the obstacle and continues. Feedback and result say which.
@@ -122,6 +123,7 @@ class Driver : public Effector {
     pf.convergence_distance = optionalDouble(pp, "convergence_distance", pf.convergence_distance);
     pf.max_lateral_accel = optionalDouble(pp, "max_lateral_accel", pf.max_lateral_accel);
     pf.sample_step = optionalDouble(pp, "sample_step", pf.sample_step);
+    pf.lookahead_time = optionalDouble(pp, "lookahead_time", pf.lookahead_time);
     check(pp, "", pf.invalidReason());
 
     AvoidanceConfig av;
@@ -135,6 +137,7 @@ class Driver : public Effector {
     av.braking_distance = optionalDouble(pa, "braking_distance", av.braking_distance);
     av.detection_distance = optionalDouble(pa, "detection_distance", av.detection_distance);
     av.border_margin = optionalDouble(pa, "border_margin", av.border_margin);
+    av.border_echo_tolerance = optionalDouble(pa, "border_echo_tolerance", av.border_echo_tolerance);
     av.blocked_timeout = optionalDouble(pa, "blocked_timeout", av.blocked_timeout);
     av.max_detours = optionalInt(pa, "max_detours", av.max_detours);
     av.table_length = optionalDouble(ctx.nh, "/table/length", av.table_length);
@@ -263,6 +266,7 @@ class Driver : public Effector {
     stat.add("goals aborted", aborted_);
     stat.add("path edits dropped", edits_dropped_);
     stat.add("ranger tf errors", tf_errors_);
+    stat.add("ranger echoes explained by the border", border_echoes_);
     stat.add("avoidance", avoidanceNow());
     stat.add("motor fault", motor_fault_ ? motor_fault_message_ : std::string("no"));
     stat.addf("last command", "v %.3f m/s, w %.3f rad/s", limiter_.last().v, limiter_.last().w);
@@ -362,8 +366,13 @@ class Driver : public Effector {
       if (!m || !std::isfinite(m->range) || m->range <= m->min_range || m->range >= m->max_range) continue;
       Pose2D mount;
       if (!rangerMount(m->header.frame_id, &mount)) continue;
-      const Point2D local{mount.x + m->range * std::cos(mount.theta), mount.y + m->range * std::sin(mount.theta)};
-      const Point2D p{robot.x + c * local.x - s * local.y, robot.y + s * local.x + c * local.y};
+      const Pose2D sensor{robot.x + c * mount.x - s * mount.y, robot.y + s * mount.x + c * mount.y, robot.theta + mount.theta};
+      // A wide cone sees a border off its axis: such an echo is not the opponent.
+      if (avoidance_.borderExplains(sensor, m->field_of_view, m->range)) {
+        ++border_echoes_;
+        continue;
+      }
+      const Point2D p{sensor.x + m->range * std::cos(sensor.theta), sensor.y + m->range * std::sin(sensor.theta)};
       if (avoidance_.plausibleObstacle(p)) out.push_back(p);
     }
     if (opponent_) {
@@ -877,7 +886,7 @@ class Driver : public Effector {
   std::string motor_status_, base_frame_, map_frame_;
   bool motor_fault_ = false;
   std::string motor_fault_message_;
-  unsigned long goals_ = 0, aborted_ = 0, edits_dropped_ = 0, tf_errors_ = 0;
+  unsigned long goals_ = 0, aborted_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0;
 };
 
 }  // namespace hal_nodes

@@ -11,6 +11,7 @@ std::string PathFollowerConfig::invalidReason() const {
   if (!(convergence_distance >= 0.02 && convergence_distance <= 1.0)) return "convergence_distance must be in [0.02, 1]";
   if (!(sample_step > 0.0 && sample_step <= 0.1)) return "sample_step must be in (0, 0.1]";
   if (!(max_lateral_accel > 0.0)) return "max_lateral_accel must be > 0";
+  if (!(lookahead_time >= 0.0 && lookahead_time <= 0.5)) return "lookahead_time must be in [0, 0.5]";
   return "";
 }
 
@@ -105,7 +106,13 @@ Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
     speed = std::min(speed, std::sqrt(bend * bend + 2.0 * decel * (samples_[k].s - ref.s)));
   }
   if (final_approach && along_end < 0.0) return Twist2D{-speed, 0.0};  // rolled past the end: back up onto it
-  const double kappa = final_approach ? 0.0 : ref.curvature;
+  double kappa = 0.0;
+  if (!final_approach) {  // the bend the robot will be in once this command takes effect
+    std::size_t k = index_;
+    const double s_ahead = ref.s + speed * config_.lookahead_time;
+    while (k + 1 < samples_.size() && samples_[k].s < s_ahead) ++k;
+    kappa = samples_[k].curvature;
+  }
   const double offset = std::clamp(lateral, -D, D);
   return Twist2D{speed, speed * (kappa + offset / (D * D)) + 2.0 * speed / D * e_theta};
 }
