@@ -16,36 +16,8 @@ from hal_nodes.msg import GameElements, HandAction, HandGoal, HumanInput
 from hcl_drivers.msg import DigitalInputs, MotorCommand, StepperBoardState
 from sensor_msgs.msg import Image
 from std_msgs.msg import Float64, Int32, String, UInt16
-from std_srvs.srv import Trigger
 
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=500, tcp_nodelay=True)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout, step=0.01):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        v = pred()
-        if v:
-            return v
-        time.sleep(step)
-    return pred()
+from hal_test_common import DeviceDiagnostics, EffectorSwitch, Recorder, is_active, is_ok, wait_for
 
 
 class FakeStepper(object):
@@ -59,6 +31,11 @@ class FakeStepper(object):
         self.targets = Recorder('/hcl/fake/stepper/lift/target', Int32)
         rospy.Subscriber('/hcl/fake/stepper/lift/target', Int32, self._on_target, queue_size=10)
         self.timer = rospy.Timer(rospy.Duration(0.02), self._tick)
+
+    def stopped_at_new_target(self, old_target):
+        """The stepper got a target other than old_target and stands on it."""
+        with self.lock:
+            return self.target != old_target and self.position == self.target
 
     def _on_target(self, m):
         with self.lock:
@@ -74,7 +51,8 @@ class FakeStepper(object):
             s.position = [0, int(round(self.position))]
             s.target = [0, self.target]
             s.moving = [False, abs(self.target - self.position) > 0.5]
-        self.pub.publish(s)
+        if not rospy.is_shutdown():  # the timer may fire once more while the test node shuts down
+            self.pub.publish(s)
 
 
 class HalInterfacesTest(unittest.TestCase):
@@ -91,9 +69,16 @@ class HalInterfacesTest(unittest.TestCase):
         t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = 1.5, 1.0, 1.0
         t.transform.rotation.x, t.transform.rotation.w = 1.0, 0.0
         cls.tf.sendTransform(t)
-        rospy.wait_for_service('/effectors/deactivate', 20.0)
-        cls.deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger)
-        cls.activate = rospy.ServiceProxy('/effectors/activate', Trigger)
+        cls.diag = DeviceDiagnostics()
+        cls.effectors = EffectorSwitch()
+        cls.wait_effectors_active()
+
+    @classmethod
+    def wait_effectors_active(cls, timeout=5.0):
+        """After /effectors/activate returned: until the hand and the harvester report active."""
+        t0 = time.monotonic()
+        for device in ('hal/hand', 'hal/harvester'):
+            assert cls.diag.wait_for(device, is_active, timeout, since=t0), device + ' not active again'
 
     def test_hmi_cord_side_strategy_and_lcd(self):
         hmi = Recorder('/hal/hmi/input', HumanInput)
@@ -123,6 +108,8 @@ class HalInterfacesTest(unittest.TestCase):
             state['inputs'] = 0b01  # cord in
             self.assertTrue(wait_for(lambda: hmi.last().cord_inserted, 2.0))
             self.assertFalse(hmi.last().started)
+            # Every input (the keys too) seen: a key pressed from now on is an edge.
+            self.assertTrue(self.diag.wait_for('hal/hmi', is_ok, 3.0), self.diag.status('hal/hmi'))
             t0 = time.monotonic()
             state['keys'] = 0b100  # A pressed: next strategy
             self.assertTrue(wait_for(lambda: hmi.last().strategy == 'homologation', 2.0))
@@ -149,54 +136,58 @@ class HalInterfacesTest(unittest.TestCase):
         client = actionlib.SimpleActionClient('/hal/hand', HandAction)
         self.assertTrue(client.wait_for_server(rospy.Duration(10.0)))
         left = Recorder('/hcl/fake/servo/left/pulse_us', UInt16)
+        stepper = self.stepper
         # Lift to 5 cm = 1000 steps.
         client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.05))
         self.assertTrue(client.wait_for_result(rospy.Duration(5.0)))
         self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED, client.get_goal_status_text())
         self.assertTrue(client.get_result().success)
-        self.assertLessEqual(abs(self.stepper.position - 1000), 5)
-        # Lift to 15 cm, cancel on the way: the lift stops where it is.
+        self.assertLessEqual(abs(stepper.position - 1000), 5)
+        # Lift to 15 cm, cancel on the way (well clear of both ends): the lift stops where it is.
         client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.15))
-        time.sleep(0.4)
+        self.assertTrue(wait_for(lambda: stepper.position >= 1300, 5.0), 'the lift did not start: %s' % stepper.position)
         client.cancel_goal()
         self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
         self.assertEqual(client.get_state(), GoalStatus.PREEMPTED)
-        time.sleep(0.3)
-        stopped_at = self.stepper.position
+        # The stop target travels on its own connection: wait (bounded) until the stepper has it and stands.
+        self.assertTrue(wait_for(lambda: stepper.stopped_at_new_target(3000), 3.0),
+                        'the lift was not re-targeted: target %s, position %s' % (stepper.target, stepper.position))
+        stopped_at = stepper.position
         self.assertGreater(stopped_at, 1100)
         self.assertLess(stopped_at, 2900)
-        self.assertLessEqual(abs(self.stepper.targets.last().data - stopped_at), 60)
-        # Fingers: open sends the open pulse widths.
+        self.assertLessEqual(abs(stepper.targets.last().data - stopped_at), 60)
+        # Fingers: open sends the open pulse widths (the pulse and the result use different connections).
         client.send_goal(HandGoal(command=HandGoal.OPEN))
         self.assertTrue(client.wait_for_result(rospy.Duration(3.0)))
         self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED)
-        self.assertEqual(left.last().data, 1000)
+        self.assertTrue(wait_for(lambda: left.last() and left.last().data == 1000, 2.0), left.last())
         # Out-of-range height: aborted with a reason.
         client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.5))
         self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
         self.assertEqual(client.get_state(), GoalStatus.ABORTED)
         # Deactivation during a lift: aborted, lift stopped; goals refused until activated.
         client.send_goal(HandGoal(command=HandGoal.LIFT, height=0.0))
-        time.sleep(0.3)
-        self.deactivate()
+        self.assertTrue(wait_for(lambda: stepper.position <= stopped_at - 200, 5.0), 'the lift did not go down')
+        self.effectors.deactivate()
         try:
             self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
             self.assertEqual(client.get_state(), GoalStatus.ABORTED)
-            time.sleep(0.3)
-            frozen = self.stepper.position
-            time.sleep(0.3)
-            self.assertEqual(self.stepper.position, frozen)
+            self.assertTrue(wait_for(lambda: stepper.stopped_at_new_target(0), 3.0),
+                            'the lift was not stopped: target %s, position %s' % (stepper.target, stepper.position))
+            frozen = stepper.position
+            time.sleep(0.3)  # nothing may move it while deactivated
+            self.assertEqual(stepper.position, frozen)
             self.assertGreater(frozen, 100)
             client.send_goal(HandGoal(command=HandGoal.CLOSE))
             self.assertTrue(client.wait_for_result(rospy.Duration(2.0)))
             self.assertEqual(client.get_state(), GoalStatus.ABORTED)
         finally:
-            self.activate()
-        time.sleep(0.2)
+            self.effectors.activate()
+        self.wait_effectors_active()
         client.send_goal(HandGoal(command=HandGoal.CLOSE))
         self.assertTrue(client.wait_for_result(rospy.Duration(3.0)))
         self.assertEqual(client.get_state(), GoalStatus.SUCCEEDED)
-        self.assertEqual(left.last().data, 1800)
+        self.assertTrue(wait_for(lambda: left.last().data == 1800, 2.0), left.last())
 
     def test_harvester_speed_and_deactivation_latency(self):
         motor = Recorder('/hcl/fake/motor/roller/command', MotorCommand)
@@ -204,17 +195,22 @@ class HalInterfacesTest(unittest.TestCase):
         pub.publish(Float64(0.5))
         self.assertTrue(wait_for(lambda: motor.last() and motor.last().value == 64, 3.0), motor.last())
         self.assertEqual(motor.last().name, 'roller')
+        # Latency from the request (on an open connection) to the zero command leaving the
+        # HAL (its stamp): the test's own subscriber thread is not part of the product path.
         t_call = time.monotonic()
-        self.deactivate()
+        stamp_call = rospy.Time.now()
+        self.effectors.deactivate()
         try:
-            zero = wait_for(lambda: [t for t, m in motor.since(t_call) if m.value == 0], 1.0, step=0.002)
-            self.assertTrue(zero)
-            print('harvester deactivate -> zero latency: %.1f ms' % (1e3 * (zero[0] - t_call)))
-            self.assertLess(zero[0] - t_call, 0.05)
-            time.sleep(0.2)
-            self.assertTrue(all(m.value == 0 for _, m in motor.since(t_call + 0.05)))
+            zero = wait_for(lambda: [m for _, m in motor.since(t_call) if m.value == 0], 1.0, step=0.002)
+            self.assertTrue(zero, 'no zero command after deactivate')
+            latency = (zero[0].header.stamp - stamp_call).to_sec()
+            print('harvester deactivate -> zero command sent: %.1f ms' % (1e3 * latency))
+            self.assertLess(latency, 0.05)
+            time.sleep(0.2)  # stays at zero while deactivated
+            later = [m.value for m in motor.messages() if m.header.stamp >= zero[0].header.stamp]
+            self.assertTrue(later and all(v == 0 for v in later), later)
         finally:
-            self.activate()
+            self.effectors.activate()
         self.assertTrue(wait_for(lambda: motor.last().value == 64, 2.0))
         pub.publish(Float64(0.0))
 

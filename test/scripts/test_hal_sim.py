@@ -2,6 +2,8 @@
 """HCL + HAL of a robot against the simulator: odometry vs /sim/ground_truth over a 10 m
 route, beacon ranges vs true distances, /effectors/deactivate latency at the motors."""
 import math
+import socket
+import struct
 import threading
 import time
 import unittest
@@ -12,7 +14,8 @@ from geometry_msgs.msg import Twist
 from hal_nodes.msg import BeaconRange
 from hcl_drivers.msg import MotorBoardState
 from nav_msgs.msg import Odometry
-from std_srvs.srv import Trigger
+
+from hal_test_common import DeviceDiagnostics, EffectorSwitch, is_active, wait_for
 
 
 def yaw_of(q):
@@ -41,6 +44,53 @@ class Latest(object):
             return self.msg
 
 
+class CanBusListener(object):
+    """A participant of the CAN-over-UDP bus (hcl_drivers/transport/udp_can_bus.h) that keeps
+    every frame with the kernel's receive time (SO_TIMESTAMPNS, wall clock): the moment the hub
+    forwarded it, as the board emulators get it, whatever this process's threads are doing."""
+    SO_TIMESTAMPNS = 35
+
+    def __init__(self, url):
+        host, port = url.replace('udp://', '').split(':')
+        self.hub = (host, int(port))
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.bind(('127.0.0.1', 0))
+        self.sock.setsockopt(socket.SOL_SOCKET, self.SO_TIMESTAMPNS, 1)
+        self.sock.settimeout(0.05)
+        self.lock = threading.Lock()
+        self.frames = []  # (kernel receive time [s, wall], id, flags, data)
+        self.running = True
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self):
+        next_hello = 0.0
+        while self.running:
+            if time.monotonic() >= next_hello:  # keepalive: the hub forgets silent peers after 2 s
+                self.sock.sendto(b'CN' + bytes([2]) + bytes(14), self.hub)
+                next_hello = time.monotonic() + 0.2
+            try:
+                d, anc, _, _ = self.sock.recvmsg(64, 64)
+            except (socket.timeout, OSError):
+                continue
+            if len(d) != 17 or d[:2] != b'CN' or d[2] != 1:
+                continue
+            stamp = time.time()
+            for level, kind, data in anc:
+                if level == socket.SOL_SOCKET and kind == self.SO_TIMESTAMPNS:
+                    sec, nsec = struct.unpack('qq', data[:16])
+                    stamp = sec + 1e-9 * nsec
+            with self.lock:
+                self.frames.append((stamp, struct.unpack('<I', d[4:8])[0], d[3], d[9:9 + d[8]]))
+
+    def data_frames(self, can_id, since):
+        with self.lock:
+            return [(t, data) for t, i, flags, data in self.frames if i == can_id and not flags & 1 and t >= since]
+
+    def close(self):
+        self.running = False
+
+
 class HalSimTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -49,6 +99,10 @@ class HalSimTest(unittest.TestCase):
         cls.truth = Latest('/sim/ground_truth', Odometry)
         cls.odom = Latest('/odom', Odometry)
         cls.cmd = rospy.Publisher('/hal/drive/cmd_vel', Twist, queue_size=1)
+        cls.diag = DeviceDiagnostics()
+        cls.effectors = EffectorSwitch(60.0)
+        t0 = time.monotonic()
+        assert cls.diag.wait_for('hal/drive:', is_active, 30.0, since=t0), 'the drive is not active'
         deadline = time.monotonic() + 60.0
         while time.monotonic() < deadline and not (cls.truth.get() and cls.odom.get()):
             time.sleep(0.1)
@@ -146,6 +200,8 @@ class HalSimTest(unittest.TestCase):
 
     def test_3_deactivate_stops_the_motors_within_50ms(self):
         state = Latest('/hcl/motor_board/state', MotorBoardState, keep=True)
+        bus = CanBusListener(rospy.get_param('/hcl/motor_board/bus'))
+        command_cob_id = int(str(rospy.get_param('/hcl/motor_board/command_cob_id', 0x200 + 10)), 0)
         stop = threading.Event()
 
         def keep_driving():
@@ -155,23 +211,32 @@ class HalSimTest(unittest.TestCase):
         th = threading.Thread(target=keep_driving)
         th.start()
         try:
-            time.sleep(1.5)
-            self.assertTrue(state.get() and any(state.get().pwm_applied), 'the motors are not driven')
-            deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger)
+            self.assertTrue(wait_for(lambda: state.get() and any(state.get().pwm_applied), 5.0), 'the motors are not driven')
+            self.assertTrue(wait_for(lambda: bus.data_frames(command_cob_id, time.time() - 0.1), 3.0), 'no motor command on the bus')
+            # From the request (on an open connection) to the motor board's zero command on the
+            # bus (kernel receive stamp): deactivate service -> drive effector -> HCL motor
+            # board driver -> CAN frame the emulator applies on receipt.
             t_call = time.monotonic()
-            deactivate()
+            wall_call = time.time()
+            self.effectors.deactivate()
+            zero = wait_for(lambda: [t for t, d in bus.data_frames(command_cob_id, wall_call) if d[:4] == bytes(4)], 1.0)
+            self.assertTrue(zero, 'no zero motor command on the bus after deactivate')
+            stopped = wait_for(lambda: [t for t, m in state.items if t >= t_call and not any(m.pwm_applied)], 1.0)
+            self.assertTrue(stopped, 'the motor board never reported the motors stopped')
+            latency = zero[0] - wall_call
             time.sleep(1.0)
-            after = [(t, m) for t, m in state.items if t >= t_call and not any(m.pwm_applied)]
-            self.assertTrue(after, 'the motors were never stopped')
-            latency = after[0][0] - t_call
+            nonzero = [t for t, d in bus.data_frames(command_cob_id, zero[0]) if d[:4] != bytes(4)]
             speed = abs(self.truth.get().twist.twist.linear.x)
-            print('deactivate -> motor board applies 0: %.1f ms; speed 1 s later %.3f m/s' % (1e3 * latency, speed))
+            print('deactivate -> zero motor command on the bus: %.1f ms (state reporting 0 reached the test after %.1f ms); '
+                  'speed 1 s later %.3f m/s' % (1e3 * latency, 1e3 * (stopped[0] - t_call), speed))
             self.assertLess(latency, 0.05)
+            self.assertFalse(nonzero, 'the motors were commanded again while deactivated')
             self.assertLess(speed, 0.01)
         finally:
             stop.set()
             th.join()
-            rospy.ServiceProxy('/effectors/activate', Trigger)()
+            bus.close()
+            self.effectors.activate()
 
 
 if __name__ == '__main__':

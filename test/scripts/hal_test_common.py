@@ -1,0 +1,118 @@
+"""Shared helpers of the HAL rostests (test_hal_*.py): topic recorders that can wait for their
+connection, bounded waits, device diagnostics, and the effector switch with its service
+connections opened in advance (so a measured deactivation latency starts when the request is
+sent, not at the master lookup of the service)."""
+import threading
+import time
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from std_srvs.srv import Trigger
+
+
+def wait_for(pred, timeout, step=0.01):
+    """Poll `pred` until it returns something true or `timeout` [s] passes; its last value."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        v = pred()
+        if v:
+            return v
+        time.sleep(step)
+    return pred()
+
+
+class Recorder(object):
+    """Keeps (receive time, message) of a topic."""
+
+    def __init__(self, topic, msg_type, queue_size=500):
+        self.lock = threading.Lock()
+        self.items = []
+        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=queue_size, tcp_nodelay=True)
+
+    def _cb(self, msg):
+        with self.lock:
+            self.items.append((time.monotonic(), msg))
+
+    def connected(self, timeout=10.0):
+        """True once a publisher of the topic is connected: an event published after this
+        is not lost to a subscription still being set up."""
+        return bool(wait_for(lambda: self.sub.get_num_connections() > 0, timeout))
+
+    def since(self, t0):
+        with self.lock:
+            return [(t, m) for t, m in self.items if t >= t0]
+
+    def messages(self):
+        with self.lock:
+            return [m for _, m in self.items]
+
+    def last(self):
+        with self.lock:
+            return self.items[-1][1] if self.items else None
+
+
+class DeviceDiagnostics(object):
+    """The newest /diagnostics status of each HAL device (by a part of its name)."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.items = []
+        self.sub = rospy.Subscriber('/diagnostics', DiagnosticArray, self._cb, queue_size=500)
+
+    def _cb(self, arr):
+        now = time.monotonic()
+        with self.lock:
+            for s in arr.status:
+                self.items.append((now, s))
+
+    def status(self, name_part, since=0.0):
+        """The newest status whose name contains name_part (e.g. 'hal/drive': names are
+        'hal/drive: device'), received after `since`."""
+        with self.lock:
+            for t, s in reversed(self.items):
+                if t >= since and name_part in s.name:
+                    return s
+        return None
+
+    def wait_for(self, name_part, pred, timeout, since=None):
+        """The first newest status of name_part, received after `since`, satisfying pred."""
+        since = time.monotonic() if since is None else since
+
+        def check():
+            s = self.status(name_part, since)
+            return s if s is not None and pred(s) else None
+        return wait_for(check, timeout, step=0.02)
+
+
+def value(status, key):
+    for kv in status.values:
+        if kv.key == key:
+            return kv.value
+    return None
+
+
+def is_ok(status):
+    return status.level == DiagnosticStatus.OK
+
+
+def is_active(status):
+    return value(status, 'active') in ('True', 'true', '1')
+
+
+class EffectorSwitch(object):
+    """/effectors/deactivate and /effectors/activate over persistent connections, opened by one
+    deactivate/activate cycle at construction (call it before the effectors are in use)."""
+
+    def __init__(self, timeout=20.0):
+        rospy.wait_for_service('/effectors/deactivate', timeout)
+        rospy.wait_for_service('/effectors/activate', timeout)
+        self._deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger, persistent=True)
+        self._activate = rospy.ServiceProxy('/effectors/activate', Trigger, persistent=True)
+        self.deactivate()
+        self.activate()
+
+    def deactivate(self):
+        return self._deactivate()
+
+    def activate(self):
+        return self._activate()
