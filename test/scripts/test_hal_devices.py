@@ -65,7 +65,7 @@ class FakeEncoders(object):
     def _tick(self, _):
         now = rospy.Time.now()
         with self.lock:
-            if not any(self.enabled.values()):
+            if not any(self.enabled.values()) or rospy.is_shutdown():
                 return
             for n, pub in self.pubs.items():
                 if not self.enabled[n]:

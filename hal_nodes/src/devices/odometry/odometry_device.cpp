@@ -115,8 +115,12 @@ class OdometryDevice : public Device {
         pair.active = true;
       }
       const ros::Time stamp = std::max(l->header.stamp, r->header.stamp);
-      if (stamp == pair.last_stamp && pair.left_tracker.hasBaseline() && pair.right_tracker.hasBaseline()) {
-        addPair(pair, OdometryIncrement(), fusion, newest, stamp);  // no new exchange: no motion seen yet
+      // Integrate only when both counters are newer than the ones last used: the two arrive on
+      // separate connections, and one side alone would read as a turn (a lateral error that
+      // never comes back). Waiting costs at most one refresh; staleness still drops the pair.
+      const bool both_new = l->header.stamp > pair.left_used && r->header.stamp > pair.right_used;
+      if (!both_new && pair.left_tracker.hasBaseline() && pair.right_tracker.hasBaseline()) {
+        addPair(pair, OdometryIncrement(), fusion, newest, pair.last_stamp);  // no new exchange: no motion seen yet
         speed_sum += pair.reliability * pair.speed;
         turn_sum += pair.reliability * pair.turn_rate;
         weight_sum += pair.reliability;
@@ -141,6 +145,8 @@ class OdometryDevice : public Device {
         pair.turn_rate = inc.dtheta / dt;
       }
       pair.last_stamp = stamp;
+      pair.left_used = l->header.stamp;
+      pair.right_used = r->header.stamp;
       addPair(pair, inc, fusion, newest, stamp);
       speed_sum += pair.reliability * pair.speed;
       turn_sum += pair.reliability * pair.turn_rate;
@@ -184,6 +190,7 @@ class OdometryDevice : public Device {
     PoseIntegrator integrator;
     ros::Publisher pub;
     ros::Time last_stamp;
+    ros::Time left_used, right_used;  // stamps of the counters last integrated
     bool active = false;
     long dropped_at_step = -1;  // fused step count when it dropped out; -1: never used yet
     double speed = 0.0, turn_rate = 0.0;
