@@ -88,5 +88,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     node.sdoRead(0x2002, 0, 0.0);
   } catch (const canopen::SdoError&) {
   }
+  // The segmented upload state machine (toggle, length, abort) over the same frames again.
+  for (size_t at = 0; at + 11 <= size; at += 11) bus->channel->frames.push_back(frameFrom(data + at));
+  try {
+    node.sdoUpload(0x1008, 0, 0.0);
+  } catch (const canopen::SdoError&) {
+  }
   return 0;
 }

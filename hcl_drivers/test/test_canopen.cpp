@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <algorithm>
+#include <string>
+#include <mutex>
 #include <thread>
 
 #include "hcl_drivers/canopen/canopen.h"
@@ -92,12 +95,70 @@ TEST(Sdo, DecodesEveryResponseKind) {
   EXPECT_EQ(r->index, 0x1234);
   EXPECT_EQ(r->subindex, 5);
   r = decodeSdoResponse(sdoReply(1, {0x41, 0x08, 0x10, 0, 20, 0, 0, 0}));
-  EXPECT_EQ(r->kind, SdoResponse::Kind::kUnsupported) << "a segmented upload";
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->kind, SdoResponse::Kind::kUploadSegmented) << "a segmented upload";
+  EXPECT_TRUE(r->size_indicated);
+  EXPECT_EQ(r->value, 20u);
+  EXPECT_EQ(r->index, 0x1008);
   EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0x60, 0, 0, 0})));           // wrong length
-  EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0x20, 0, 0, 0, 0, 0, 0, 0})));  // a request, not a response
+  // (0x20 was listed here as "a request": from the server it is a download segment acknowledge, see SdoSegmented.)
+  EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0xA0, 0, 0, 0, 0, 0, 0, 0})));  // block upload: not supported
+  EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0xC0, 0, 0, 0, 0, 0, 0, 0})));  // block download: not supported
   EXPECT_FALSE(decodeSdoResponse(CanFrame::make(0x601, {0x60, 0, 0, 0, 0, 0, 0, 0})));
   EXPECT_NE(describeAbort(sdo_abort::kNoObject).find("does not exist"), std::string::npos);
   EXPECT_NE(describeAbort(0x12345678).find("0x12345678"), std::string::npos);
+}
+
+// Segmented SDO frames, byte-exact against CiA 301 (7.2.4.3.3 - 7.2.4.3.7).
+TEST(SdoSegmented, EncodesClientRequests) {
+  EXPECT_EQ(bytes(encodeSdoUploadSegmentRequest(10, false)), (std::vector<uint8_t>{0x60, 0, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(bytes(encodeSdoUploadSegmentRequest(10, true)), (std::vector<uint8_t>{0x70, 0, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(encodeSdoUploadSegmentRequest(10, true).id, 0x60Au);
+  // initiate download, segmented, size indicated: ccs=1, e=0, s=1 -> 0x21, size in bytes 4..7
+  EXPECT_EQ(bytes(encodeSdoDownloadInitiate(10, 0x2100, 0, 18)), (std::vector<uint8_t>{0x21, 0x00, 0x21, 0, 18, 0, 0, 0}));
+  const uint8_t text[] = {'a', 'b', 'c', 'd', 'e', 'f', 'g', 'h'};
+  // a full middle segment: ccs=0, t=0, n=0, c=0
+  EXPECT_EQ(bytes(encodeSdoDownloadSegment(10, false, text, 7, false)),
+            (std::vector<uint8_t>{0x00, 'a', 'b', 'c', 'd', 'e', 'f', 'g'}));
+  // the last segment with 4 bytes: t=1, n=3, c=1 -> 0x10 | 3<<1 | 1 = 0x17, unused bytes 0
+  EXPECT_EQ(bytes(encodeSdoDownloadSegment(10, true, text, 4, true)),
+            (std::vector<uint8_t>{0x17, 'a', 'b', 'c', 'd', 0, 0, 0}));
+  // an empty last segment: n=7, c=1 -> 0x0F
+  EXPECT_EQ(bytes(encodeSdoDownloadSegment(10, false, text, 0, true)), (std::vector<uint8_t>{0x0F, 0, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(bytes(encodeSdoAbort(10, 0x1008, 0, sdo_abort::kToggleBit)),
+            (std::vector<uint8_t>{0x80, 0x08, 0x10, 0, 0x00, 0x00, 0x03, 0x05}));
+}
+
+TEST(SdoSegmented, DecodesServerResponses) {
+  // upload segment: scs=0, t=1, n=2, c=1 -> 0x10 | 2<<1 | 1 = 0x15: 5 data bytes
+  auto r = decodeSdoResponse(sdoReply(10, {0x15, 'h', 'e', 'l', 'l', 'o', 0xAA, 0xAA}));
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->kind, SdoResponse::Kind::kUploadSegment);
+  EXPECT_TRUE(r->toggle);
+  EXPECT_TRUE(r->last);
+  EXPECT_EQ(r->size, 5);
+  EXPECT_EQ(std::string(r->data.begin(), r->data.begin() + r->size), "hello");
+  EXPECT_EQ(r->data[5], 0) << "bytes beyond n are not data";
+  r = decodeSdoResponse(sdoReply(10, {0x00, 1, 2, 3, 4, 5, 6, 7}));
+  ASSERT_TRUE(r);
+  EXPECT_FALSE(r->toggle);
+  EXPECT_FALSE(r->last);
+  EXPECT_EQ(r->size, 7);
+  // download segment acknowledged: scs=1, t -> 0x20 / 0x30
+  r = decodeSdoResponse(sdoReply(10, {0x30, 0, 0, 0, 0, 0, 0, 0}));
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->kind, SdoResponse::Kind::kDownloadSegmentAck);
+  EXPECT_TRUE(r->toggle);
+  r = decodeSdoResponse(sdoReply(10, {0x20, 0, 0, 0, 0, 0, 0, 0}));
+  ASSERT_TRUE(r);
+  EXPECT_FALSE(r->toggle);
+  EXPECT_FALSE(decodeSdoResponse(sdoReply(10, {0x21, 0, 0, 0, 0, 0, 0, 0}))) << "reserved bits of a segment ack";
+  // segmented upload initiated without size: 0x40
+  r = decodeSdoResponse(sdoReply(10, {0x40, 0x08, 0x10, 0, 0, 0, 0, 0}));
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->kind, SdoResponse::Kind::kUploadSegmented);
+  EXPECT_FALSE(r->size_indicated);
+  EXPECT_FALSE(decodeSdoResponse(sdoReply(10, {0x45, 0x08, 0x10, 0, 0, 0, 0, 0}))) << "n set while e = 0";
 }
 
 // A scripted CANopen node (the other end of the bus) for RemoteNode.
@@ -123,10 +184,59 @@ class ScriptedNode {
   void send(const CanFrame& f) { ch_->send(f); }
   std::atomic<int> nmt_seen_{-1};
   std::atomic<uint32_t> written_{0};
+  std::atomic<uint32_t> abort_seen_{0};
+  std::atomic<uint32_t> announced_{0};
+  std::string downloaded() {
+    std::lock_guard<std::mutex> lk(mutex_);
+    return downloaded_;
+  }
+  std::mutex mutex_;
+  std::string downloaded_;
 
  private:
   void answerSdo(const CanFrame& f) {
+    const uint8_t ccs = f.data[0] >> 5;
+    if (ccs == 4) {  // the master aborted
+      abort_seen_ = f.data[4] | (f.data[5] << 8) | (f.data[6] << 16) | (static_cast<uint32_t>(f.data[7]) << 24);
+      return;
+    }
+    if (ccs == 3) {  // upload segment request
+      if (segmented_index_ == 0x5003) return;  // silent after the initiate: the master times out
+      const bool t = f.data[0] & 0x10;
+      const std::size_t len = std::min<std::size_t>(7, upload_.size() - at_);
+      const bool last = at_ + len == upload_.size();
+      const bool sent_toggle = segmented_index_ == 0x5002 ? false : t;  // 0x5002 never alternates
+      CanFrame r = CanFrame::make(0x580 + node_, {0, 0, 0, 0, 0, 0, 0, 0});
+      r.data[0] = static_cast<uint8_t>((sent_toggle ? 0x10 : 0) | ((7 - len) << 1) | (last ? 1 : 0));
+      for (std::size_t i = 0; i < len; ++i) r.data[1 + i] = static_cast<uint8_t>(upload_[at_ + i]);
+      at_ += len;
+      ch_->send(r);
+      return;
+    }
+    if (ccs == 0) {  // download segment
+      const std::size_t len = 7 - ((f.data[0] >> 1) & 7);
+      {
+        std::lock_guard<std::mutex> lk(mutex_);
+        downloaded_.append(reinterpret_cast<const char*>(f.data.data() + 1), len);
+      }
+      ch_->send(CanFrame::make(0x580 + node_, {static_cast<uint8_t>(0x20 | (f.data[0] & 0x10)), 0, 0, 0, 0, 0, 0, 0}));
+      return;
+    }
     const uint16_t index = static_cast<uint16_t>(f.data[1] | (f.data[2] << 8));
+    if (index >= 0x5000 && index <= 0x5003) {
+      segmented_index_ = index;
+      at_ = 0;
+      if (index == 0x5001) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        downloaded_.clear();
+        announced_ = f.data[4] | (f.data[5] << 8);
+        ch_->send(CanFrame::make(0x580 + node_, {0x60, f.data[1], f.data[2], f.data[3], 0, 0, 0, 0}));
+      } else {
+        ch_->send(CanFrame::make(0x580 + node_, {0x41, f.data[1], f.data[2], f.data[3],
+                                                 static_cast<uint8_t>(upload_.size()), 0, 0, 0}));
+      }
+      return;
+    }
     if (index == 0x3000) return;  // never answers: a timeout
     if (index == 0x2000 && f.data[0] == 0x40) {
       ch_->send(CanFrame::make(0x580 + node_, {0x4B, f.data[1], f.data[2], f.data[3], 0x34, 0x12, 0, 0}));
@@ -139,6 +249,9 @@ class ScriptedNode {
       ch_->send(CanFrame::make(0x580 + node_, {0x80, f.data[1], f.data[2], f.data[3], 0x00, 0x00, 0x02, 0x06}));
     }
   }
+  std::string upload_ = "robot_sim motor_board";  // 21 bytes: 3 full segments
+  std::atomic<uint16_t> segmented_index_{0};
+  std::size_t at_ = 0;
   uint8_t node_;
   std::shared_ptr<transport::UdpCanBus> bus_;
   std::shared_ptr<transport::CanChannel> ch_;
@@ -180,6 +293,38 @@ TEST_F(RemoteNodeTest, SdoReadWriteAbortAndTimeout) {
   }
   EXPECT_EQ(node_->sdoTimeouts(), 1u);
   EXPECT_THROW(node_->sdoRead(0x4000, 0, 0.5), SdoError) << "segmented transfers are reported, not misread";
+}
+
+TEST_F(RemoteNodeTest, SegmentedUploadAndDownload) {
+  const auto name = node_->sdoUpload(0x5000, 0, 0.5);
+  EXPECT_EQ(std::string(name.begin(), name.end()), "robot_sim motor_board");
+  const std::string label = "a label of 18 byte";
+  node_->sdoDownload(0x5001, 0, std::vector<uint8_t>(label.begin(), label.end()), 0.5);
+  EXPECT_EQ(scripted_->announced_.load(), label.size()) << "initiate carries the size";
+  EXPECT_EQ(scripted_->downloaded(), label);
+  node_->sdoDownload(0x5001, 0, {}, 0.5);
+  EXPECT_EQ(scripted_->downloaded(), "") << "an empty value: one empty last segment";
+  EXPECT_THROW(node_->sdoRead(0x5000, 0, 0.5), SdoError) << "sdoRead takes values of up to 4 bytes only";
+}
+
+TEST_F(RemoteNodeTest, SegmentedToggleErrorAndTimeoutAbort) {
+  try {
+    node_->sdoUpload(0x5002, 0, 0.5);
+    FAIL() << "a segment with the wrong toggle bit must abort the transfer";
+  } catch (const SdoError& e) {
+    EXPECT_EQ(e.abortCode(), sdo_abort::kToggleBit) << e.what();
+  }
+  for (int i = 0; i < 50 && scripted_->abort_seen_.load() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(scripted_->abort_seen_.load(), sdo_abort::kToggleBit) << "the master sends the abort";
+  scripted_->abort_seen_ = 0;
+  try {
+    node_->sdoUpload(0x5003, 0, 0.05);
+    FAIL() << "a node silent during the segments must time out";
+  } catch (const SdoError& e) {
+    EXPECT_EQ(e.abortCode(), sdo_abort::kTimeout) << e.what();
+  }
+  for (int i = 0; i < 50 && scripted_->abort_seen_.load() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(scripted_->abort_seen_.load(), sdo_abort::kTimeout);
 }
 
 TEST_F(RemoteNodeTest, NmtPdoRtrCallbacksAndBootUp) {

@@ -48,6 +48,8 @@ class MotorBoardTest(unittest.TestCase):
         m = self.state.last()
         self.assertEqual(m.node.nmt_state, 'operational')
         self.assertEqual(m.node.bus_state, 'error-active')
+        # 0x1008 is 21 bytes: the driver read it by segmented SDO at configuration.
+        self.assertEqual(value(s, 'device name'), 'robot_sim motor_board')
 
     def test_2_commands_drive_the_firmware_and_encoders_count(self):
         e0 = self.encoder.last().raw
@@ -114,6 +116,48 @@ class MotorBoardTest(unittest.TestCase):
         stopped = self.truth.wait_for(lambda t: truth_value(t, 'pwm0') == 0 and truth_value(t, 'watchdog_stopped') == 1, 2.0)
         self.assertIsNotNone(stopped, 'the firmware kept the motor running without commands')
         self.assertLess(time.monotonic() - t_cmd, 0.2 + 0.2)
+
+    def sdo(self, request, timeout=1.0):
+        """One SDO request (8 bytes) to the emulator's server; its 8-byte answer, or None."""
+        t0 = time.monotonic()
+        self.bus.send(0x600 + NODE, bytes(request))
+        end = t0 + timeout
+        while time.monotonic() < end:
+            answers = self.bus.seen(t0, 0x580 + NODE)
+            if answers:
+                return bytes(answers[0][3])
+            time.sleep(0.005)
+        return None
+
+    def test_8_segmented_sdo_in_the_emulator(self):
+        # After test_7 no driver is on the bus: this test is the SDO client, byte-exact (CiA 301).
+        name = b'robot_sim motor_board'
+        self.assertEqual(self.sdo([0x40, 0x08, 0x10, 0, 0, 0, 0, 0]), bytes([0x41, 0x08, 0x10, 0, len(name), 0, 0, 0]))
+        self.assertEqual(self.sdo([0x60] + [0] * 7), bytes([0x00]) + name[0:7])            # t=0, 7 bytes
+        self.assertEqual(self.sdo([0x70] + [0] * 7), bytes([0x10]) + name[7:14])           # t=1
+        self.assertEqual(self.sdo([0x60] + [0] * 7), bytes([0x01]) + name[14:21])          # t=0, n=0, c=1
+        # Segmented download of 10 bytes into the user label 0x2100, then read back.
+        label = b'left+right'
+        self.assertEqual(self.sdo([0x21, 0x00, 0x21, 0, 10, 0, 0, 0]), bytes([0x60, 0x00, 0x21, 0, 0, 0, 0, 0]))
+        self.assertEqual(self.sdo(bytes([0x00]) + label[:7]), bytes([0x20] + [0] * 7))
+        self.assertEqual(self.sdo(bytes([0x10 | (4 << 1) | 1]) + label[7:] + bytes(4)), bytes([0x30] + [0] * 7))
+        self.assertEqual(self.sdo([0x40, 0x00, 0x21, 0, 0, 0, 0, 0]), bytes([0x41, 0x00, 0x21, 0, 10, 0, 0, 0]))
+        self.assertEqual(self.sdo([0x60] + [0] * 7), bytes([0x00]) + label[:7])
+        self.assertEqual(self.sdo([0x70] + [0] * 7), bytes([0x19]) + label[7:] + bytes(4))  # t=1, 3 bytes: n=4, c=1
+        # A toggle error aborts with 0x05030000; a segment without a transfer with 0x05040001.
+        self.assertEqual(self.sdo([0x40, 0x08, 0x10, 0, 0, 0, 0, 0])[0], 0x41)
+        self.assertEqual(self.sdo([0x70] + [0] * 7), bytes([0x80, 0x08, 0x10, 0, 0x00, 0x00, 0x03, 0x05]))
+        self.assertEqual(self.sdo([0x60] + [0] * 7), bytes([0x80, 0x08, 0x10, 0, 0x01, 0x00, 0x04, 0x05]))
+        # A client that stops mid-transfer: the server aborts with 0x05040000 after its 1 s timeout.
+        self.assertEqual(self.sdo([0x40, 0x08, 0x10, 0, 0, 0, 0, 0])[0], 0x41)
+        t0 = time.monotonic()
+        abort = None
+        while time.monotonic() < t0 + 3.0 and abort is None:
+            abort = next((f for f in self.bus.seen(t0, 0x580 + NODE) if f[3][0] == 0x80), None)
+            time.sleep(0.02)
+        self.assertIsNotNone(abort, 'the server never timed the transfer out')
+        self.assertEqual(bytes(abort[3]), bytes([0x80, 0x08, 0x10, 0, 0x00, 0x00, 0x04, 0x05]))
+        self.assertGreater(abort[0] - t0, 0.5)
 
 
 if __name__ == '__main__':

@@ -1,5 +1,6 @@
 #include "hcl_drivers/canopen/remote_node.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -112,15 +113,25 @@ bool RemoteNode::waitFor(const std::function<bool()>& done, double timeout_s) {
   }
 }
 
-SdoResponse RemoteNode::sdoExchange(const CanFrame& request, uint16_t index, uint8_t subindex, double timeout_s) {
-  const std::string what = "SDO " + hex(index) + "sub" + std::to_string(subindex) + " of node " + std::to_string(node_id_);
+std::string RemoteNode::sdoName(uint16_t index, uint8_t subindex) const {
+  return "SDO " + hex(index) + "sub" + std::to_string(subindex) + " of node " + std::to_string(node_id_);
+}
+
+SdoResponse RemoteNode::sdoExchange(const CanFrame& request, uint16_t index, uint8_t subindex, bool segment_phase,
+                                    double timeout_s) {
+  const std::string what = sdoName(index, subindex);
   sdo_response_.reset();
   if (!sendRaw(request)) throw SdoError(what + ": cannot send: " + last_error_);
-  const bool got = waitFor(
-      [&] { return sdo_response_ && sdo_response_->index == index && sdo_response_->subindex == subindex; }, timeout_s);
+  const auto ours = [&](const SdoResponse& r) {
+    if (r.kind == SdoResponse::Kind::kAbort || !segment_phase) return r.index == index && r.subindex == subindex;
+    return r.segment();
+  };
+  const bool got = waitFor([&] { return sdo_response_ && ours(*sdo_response_); }, timeout_s);
   if (!got) {
     ++sdo_timeouts_;
-    throw SdoError(what + ": no answer within " + std::to_string(static_cast<int>(timeout_s * 1e3)) + " ms");
+    const std::string why = "no answer within " + std::to_string(static_cast<int>(timeout_s * 1e3)) + " ms";
+    if (segment_phase) sdoAbortTransfer(index, subindex, sdo_abort::kTimeout, why);
+    throw SdoError(what + ": " + why);
   }
   const SdoResponse r = *sdo_response_;
   sdo_response_.reset();
@@ -128,21 +139,88 @@ SdoResponse RemoteNode::sdoExchange(const CanFrame& request, uint16_t index, uin
     ++sdo_aborts_;
     throw SdoError(what + " aborted: " + describeAbort(r.value), r.value);
   }
-  if (r.kind == SdoResponse::Kind::kUnsupported) throw SdoError(what + ": segmented transfer not supported");
   return r;
 }
 
+void RemoteNode::sdoAbortTransfer(uint16_t index, uint8_t subindex, uint32_t code, const std::string& why) {
+  sendRaw(encodeSdoAbort(node_id_, index, subindex, code));  // best effort: the error is thrown anyway
+  throw SdoError(sdoName(index, subindex) + ": " + why + "; aborted by the master: " + describeAbort(code), code);
+}
+
+std::vector<uint8_t> RemoteNode::sdoUpload(uint16_t index, uint8_t subindex, double timeout_s) {
+  using Kind = SdoResponse::Kind;
+  SdoResponse r = sdoExchange(encodeSdoRead(node_id_, index, subindex), index, subindex, false, timeout_s);
+  std::vector<uint8_t> out;
+  if (r.kind == Kind::kReadData) {
+    for (int i = 0; i < r.size; ++i) out.push_back(static_cast<uint8_t>(r.value >> (8 * i)));
+    return out;
+  }
+  if (r.kind != Kind::kUploadSegmented)
+    throw SdoError(sdoName(index, subindex) + ": read answered by a write acknowledge");
+  const bool size_indicated = r.size_indicated;
+  const uint32_t size = r.value;
+  if (size_indicated && size > kMaxUploadBytes)
+    sdoAbortTransfer(index, subindex, sdo_abort::kOutOfMemory, std::to_string(size) + " bytes announced");
+  bool toggle = false;
+  while (true) {
+    r = sdoExchange(encodeSdoUploadSegmentRequest(node_id_, toggle), index, subindex, true, timeout_s);
+    if (r.kind != Kind::kUploadSegment)
+      sdoAbortTransfer(index, subindex, sdo_abort::kBadCommand, "a download acknowledge during an upload");
+    if (r.toggle != toggle)
+      sdoAbortTransfer(index, subindex, sdo_abort::kToggleBit, "segment toggle bit " + std::to_string(r.toggle));
+    out.insert(out.end(), r.data.begin(), r.data.begin() + r.size);
+    if (out.size() > kMaxUploadBytes)
+      sdoAbortTransfer(index, subindex, sdo_abort::kOutOfMemory, "more than " + std::to_string(kMaxUploadBytes) + " bytes");
+    if (r.last) break;
+    toggle = !toggle;
+  }
+  if (size_indicated && out.size() != size)
+    throw SdoError(sdoName(index, subindex) + ": " + std::to_string(out.size()) + " bytes received, " +
+                   std::to_string(size) + " announced");
+  return out;
+}
+
+void RemoteNode::sdoDownload(uint16_t index, uint8_t subindex, const std::vector<uint8_t>& data, double timeout_s) {
+  using Kind = SdoResponse::Kind;
+  if (!data.empty() && data.size() <= 4) {
+    uint32_t v = 0;
+    for (std::size_t i = 0; i < data.size(); ++i) v |= static_cast<uint32_t>(data[i]) << (8 * i);
+    sdoWrite(index, subindex, v, static_cast<uint8_t>(data.size()), timeout_s);
+    return;
+  }
+  const SdoResponse r = sdoExchange(encodeSdoDownloadInitiate(node_id_, index, subindex, static_cast<uint32_t>(data.size())),
+                                    index, subindex, false, timeout_s);
+  if (r.kind != Kind::kWriteAck) throw SdoError(sdoName(index, subindex) + ": write answered by read data");
+  bool toggle = false;
+  std::size_t at = 0;
+  while (true) {
+    const uint8_t len = static_cast<uint8_t>(std::min<std::size_t>(7, data.size() - at));
+    const bool last = at + len == data.size();
+    const SdoResponse a = sdoExchange(encodeSdoDownloadSegment(node_id_, toggle, data.data() + at, len, last), index,
+                                      subindex, true, timeout_s);
+    if (a.kind != Kind::kDownloadSegmentAck)
+      sdoAbortTransfer(index, subindex, sdo_abort::kBadCommand, "an upload segment during a download");
+    if (a.toggle != toggle)
+      sdoAbortTransfer(index, subindex, sdo_abort::kToggleBit, "acknowledge toggle bit " + std::to_string(a.toggle));
+    at += len;
+    if (last) return;
+    toggle = !toggle;
+  }
+}
+
 uint32_t RemoteNode::sdoRead(uint16_t index, uint8_t subindex, double timeout_s) {
-  const SdoResponse r = sdoExchange(encodeSdoRead(node_id_, index, subindex), index, subindex, timeout_s);
-  if (r.kind != SdoResponse::Kind::kReadData)
-    throw SdoError("SDO read " + hex(index) + "sub" + std::to_string(subindex) + ": node answered a write acknowledge");
-  return r.value;
+  const std::vector<uint8_t> b = sdoUpload(index, subindex, timeout_s);
+  if (b.size() > 4)
+    throw SdoError(sdoName(index, subindex) + ": " + std::to_string(b.size()) + " bytes, not a value of up to 4 bytes");
+  uint32_t v = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) v |= static_cast<uint32_t>(b[i]) << (8 * i);
+  return v;
 }
 
 void RemoteNode::sdoWrite(uint16_t index, uint8_t subindex, uint32_t value, uint8_t size, double timeout_s) {
-  const SdoResponse r = sdoExchange(encodeSdoWrite(node_id_, index, subindex, value, size), index, subindex, timeout_s);
-  if (r.kind != SdoResponse::Kind::kWriteAck)
-    throw SdoError("SDO write " + hex(index) + "sub" + std::to_string(subindex) + ": node answered read data");
+  const SdoResponse r =
+      sdoExchange(encodeSdoWrite(node_id_, index, subindex, value, size), index, subindex, false, timeout_s);
+  if (r.kind != SdoResponse::Kind::kWriteAck) throw SdoError(sdoName(index, subindex) + ": write answered by read data");
 }
 
 }  // namespace canopen

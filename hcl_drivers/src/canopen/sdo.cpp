@@ -15,6 +15,7 @@ std::string describeAbort(uint32_t code) {
     case sdo_abort::kToggleBit: text = "toggle bit not alternated"; break;
     case sdo_abort::kTimeout: text = "SDO protocol timed out"; break;
     case sdo_abort::kBadCommand: text = "command specifier not valid or unknown"; break;
+    case sdo_abort::kOutOfMemory: text = "out of memory"; break;
     case sdo_abort::kUnsupportedAccess: text = "unsupported access to an object"; break;
     case sdo_abort::kWriteOnly: text = "attempt to read a write only object"; break;
     case sdo_abort::kReadOnly: text = "attempt to write a read only object"; break;
@@ -45,6 +46,32 @@ CanFrame encodeSdoWrite(uint8_t node_id, uint16_t index, uint8_t subindex, uint3
   return f;
 }
 
+CanFrame encodeSdoUploadSegmentRequest(uint8_t node_id, bool toggle) {
+  return CanFrame::make(kSdoRx + (node_id & 0x7F), {static_cast<uint8_t>(0x60 | (toggle ? 0x10 : 0)), 0, 0, 0, 0, 0, 0, 0});
+}
+
+CanFrame encodeSdoDownloadInitiate(uint8_t node_id, uint16_t index, uint8_t subindex, uint32_t size) {
+  CanFrame f = CanFrame::make(kSdoRx + (node_id & 0x7F),
+                              {0x21, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), subindex, 0, 0, 0, 0});
+  for (int i = 0; i < 4; ++i) f.data[4 + i] = static_cast<uint8_t>(size >> (8 * i));
+  return f;
+}
+
+CanFrame encodeSdoDownloadSegment(uint8_t node_id, bool toggle, const uint8_t* data, uint8_t len, bool last) {
+  if (len > 7) len = 7;
+  CanFrame f = CanFrame::make(kSdoRx + (node_id & 0x7F), {0, 0, 0, 0, 0, 0, 0, 0});
+  f.data[0] = static_cast<uint8_t>((toggle ? 0x10 : 0) | ((7 - len) << 1) | (last ? 1 : 0));
+  for (int i = 0; i < len; ++i) f.data[1 + i] = data[i];
+  return f;
+}
+
+CanFrame encodeSdoAbort(uint8_t node_id, uint16_t index, uint8_t subindex, uint32_t code) {
+  CanFrame f = CanFrame::make(kSdoRx + (node_id & 0x7F),
+                              {0x80, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), subindex, 0, 0, 0, 0});
+  for (int i = 0; i < 4; ++i) f.data[4 + i] = static_cast<uint8_t>(code >> (8 * i));
+  return f;
+}
+
 std::optional<SdoResponse> decodeSdoResponse(const CanFrame& f) {
   if (f.error || f.rtr || f.extended || functionOf(f.id) != kSdoTx || f.dlc != 8) return std::nullopt;
   SdoResponse r;
@@ -53,6 +80,24 @@ std::optional<SdoResponse> decodeSdoResponse(const CanFrame& f) {
   const uint32_t payload = static_cast<uint32_t>(f.data[4]) | (static_cast<uint32_t>(f.data[5]) << 8) |
                            (static_cast<uint32_t>(f.data[6]) << 16) | (static_cast<uint32_t>(f.data[7]) << 24);
   const uint8_t cmd = f.data[0];
+  if ((cmd & 0xE0) == 0x00) {  // upload segment (scs = 0): no index in the frame
+    r.index = 0;
+    r.subindex = 0;
+    r.kind = SdoResponse::Kind::kUploadSegment;
+    r.toggle = cmd & 0x10;
+    r.last = cmd & 0x01;
+    r.size = static_cast<uint8_t>(7 - ((cmd >> 1) & 7));
+    for (int i = 0; i < 7; ++i) r.data[i] = i < r.size ? f.data[1 + i] : 0;
+    return r;
+  }
+  if ((cmd & 0xE0) == 0x20) {  // download segment acknowledged (scs = 1)
+    if (cmd & 0x0F) return std::nullopt;  // reserved bits
+    r.index = 0;
+    r.subindex = 0;
+    r.kind = SdoResponse::Kind::kDownloadSegmentAck;
+    r.toggle = cmd & 0x10;
+    return r;
+  }
   if (cmd == 0x60) {
     r.kind = SdoResponse::Kind::kWriteAck;
   } else if (cmd == 0x80) {
@@ -60,11 +105,14 @@ std::optional<SdoResponse> decodeSdoResponse(const CanFrame& f) {
     r.value = payload;
   } else if ((cmd & 0xE0) == 0x40) {  // upload response (scs = 2)
     const bool expedited = cmd & 0x02, size_indicated = cmd & 0x01;
-    if (!expedited) {
-      r.kind = SdoResponse::Kind::kUnsupported;  // segmented upload initiated
+    if (cmd & 0x10) return std::nullopt;  // reserved bit
+    if (!expedited) {  // segmented upload initiated
+      if (cmd & 0x0C) return std::nullopt;  // n is only meaningful with e = 1
+      r.kind = SdoResponse::Kind::kUploadSegmented;
+      r.size_indicated = size_indicated;
+      r.value = size_indicated ? payload : 0;
       return r;
     }
-    if (cmd & 0x10) return std::nullopt;  // reserved bit
     r.kind = SdoResponse::Kind::kReadData;
     r.size = size_indicated ? static_cast<uint8_t>(4 - ((cmd >> 2) & 3)) : 4;
     r.value = r.size == 4 ? payload : (payload & ((1u << (8 * r.size)) - 1));

@@ -1,4 +1,4 @@
-// The master's view of one CANopen node on a CAN bus: NMT commands, expedited SDO with
+// The master's view of one CANopen node on a CAN bus: NMT commands, expedited and segmented SDO with
 // timeouts (abort codes thrown as SdoError), PDO send, PDO request by RTR, receive callbacks
 // by COB-ID, and heartbeat/boot-up consumption (a boot-up means the node reset: its
 // variables restarted and it waits in pre-operational for an NMT start).
@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "hcl_drivers/canopen/nmt.h"
 #include "hcl_drivers/canopen/pdo.h"
@@ -41,9 +42,17 @@ class RemoteNode {
   bool requestPdo(uint32_t cob_id, uint8_t dlc);
   bool sendRaw(const transport::CanFrame& f);
 
-  // Throw SdoError on abort (with its code), timeout, or a malformed/unsupported answer.
+  // Throw SdoError on abort (with its code), timeout, or a malformed/unexpected answer.
+  // sdoRead/sdoWrite: objects of up to 4 bytes (an answer longer than 4 bytes is an error).
   uint32_t sdoRead(uint16_t index, uint8_t subindex, double timeout_s);
   void sdoWrite(uint16_t index, uint8_t subindex, uint32_t value, uint8_t size, double timeout_s);
+  // Any length: expedited when the node answers so (upload) or data has 1..4 bytes (download),
+  // segmented otherwise. `timeout_s` applies to each request/response pair; the master aborts
+  // the transfer (0x05040000) when one times out, and (0x05030000) on a toggle bit error.
+  std::vector<uint8_t> sdoUpload(uint16_t index, uint8_t subindex, double timeout_s);
+  void sdoDownload(uint16_t index, uint8_t subindex, const std::vector<uint8_t>& data, double timeout_s);
+  // Longest segmented upload accepted (the master aborts with "out of memory" beyond it).
+  static constexpr std::size_t kMaxUploadBytes = 4096;
 
   // Dispatches received frames until `done()` is true (returns true) or the timeout passes.
   bool waitFor(const std::function<bool()>& done, double timeout_s);
@@ -66,7 +75,13 @@ class RemoteNode {
 
  private:
   void dispatch(const transport::CanFrame& f);
-  SdoResponse sdoExchange(const transport::CanFrame& request, uint16_t index, uint8_t subindex, double timeout_s);
+  // Sends `request` and waits for the answer: in the initiate phase one naming index/subindex, in
+  // the segment phase a segment frame (or an abort of this transfer). Throws on abort/timeout.
+  SdoResponse sdoExchange(const transport::CanFrame& request, uint16_t index, uint8_t subindex, bool segment_phase,
+                          double timeout_s);
+  // The master's abort of a transfer in progress: sent to the node, then thrown.
+  [[noreturn]] void sdoAbortTransfer(uint16_t index, uint8_t subindex, uint32_t code, const std::string& why);
+  std::string sdoName(uint16_t index, uint8_t subindex) const;
 
   std::shared_ptr<transport::CanBus> bus_;
   std::shared_ptr<transport::CanChannel> channel_;

@@ -115,6 +115,7 @@ bool CanopenBoard::service() {
         need_start_ = false;
       }
       if (need_configure_) {
+        readDeviceName();
         configure();
         need_configure_ = false;
       }
@@ -142,6 +143,20 @@ bool CanopenBoard::service() {
   return ok;
 }
 
+void CanopenBoard::readDeviceName() {
+  std::string name;
+  try {
+    const std::vector<uint8_t> b = node_->sdoUpload(canopen::kDeviceNameIndex, 0, sdo_timeout_);
+    name.assign(b.begin(), b.end());
+  } catch (const canopen::SdoError& e) {
+    // No answer at all means the node is gone: fail the configuration like any other SDO.
+    if (e.abortCode() == 0 || e.abortCode() == canopen::sdo_abort::kTimeout) throw;
+    name = std::string("(not provided: ") + e.what() + ")";
+  }
+  std::lock_guard<std::mutex> lk(status_mutex_);
+  device_name_ = name;
+}
+
 void CanopenBoard::halt() {
   if (!node_) return;
   answering_ = false;
@@ -157,6 +172,7 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   {
     std::lock_guard<std::mutex> lk(status_mutex_);
     stat.add("node id", node_id_);
+    stat.add("device name", device_name_);
     stat.add("NMT state", status_copy_.nmt_state);
     stat.add("boot-ups seen", status_copy_.boot_ups);
     stat.add("malformed frames", status_copy_.malformed_frames);

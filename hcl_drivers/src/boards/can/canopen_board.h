@@ -79,6 +79,10 @@ class CanopenBoard : public Board {
   std::string name_;
   int node_id_ = 0;
   double answer_timeout_ = 0.02, sdo_timeout_ = 0.05, command_timeout_ = 0.25, stale_timeout_ = 0.3;
+  // The node's device name (0x1008, a string read by segmented SDO at configuration); CiA 301
+  // makes it optional, so a node that aborts the read shows why instead.
+  void readDeviceName();
+  std::string device_name_;
   bool need_start_ = true;
   bool need_configure_ = true;
   int consecutive_failures_ = 0;

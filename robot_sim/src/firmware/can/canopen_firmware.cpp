@@ -1,5 +1,6 @@
 #include "canopen_firmware.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -54,6 +55,14 @@ void CanopenFirmware::start(FirmwareContext& ctx) {
   addObject(0x1017, 0, {2, [this] { return static_cast<uint32_t>(heartbeat_ms_); },
                         [this](uint32_t v) { heartbeat_ms_ = static_cast<uint16_t>(v); return true; }});
   addObject(0x1018, 1, {4, [] { return 0x0000ED09u; }, nullptr});        // vendor id
+  // Longer than 4 bytes: read and written by segmented SDO.
+  device_name_ = "robot_sim " + name_;
+  addBytesObject(0x1008, 0, {[this] { return device_name_; }, nullptr});  // device name
+  addBytesObject(0x2100, 0, {[this] { return user_label_; }, [this](const std::string& v) {
+                               if (v.size() > 64) return false;
+                               user_label_ = v;
+                               return true;
+                             }});  // user label, up to 64 bytes
   {
     std::lock_guard<std::mutex> lk(mutex_);
     setupBoard(ctx);
@@ -148,6 +157,10 @@ void CanopenFirmware::run() {
       send(CanFrame::make(0x480 + node_id_, {0x01}));              // TPDO4: not in the driver's map
     }
     tick(t);
+    if (transfer_.active && t > transfer_.deadline) {
+      transfer_.active = false;
+      sdoAbort(transfer_.index, transfer_.sub, 0x05040000);  // SDO protocol timed out
+    }
     if (heartbeat_ms_ > 0 && t >= next_heartbeat_) {
       send(CanFrame::make(0x700 + node_id_, {nmt_state_}));
       next_heartbeat_ = t + heartbeat_ms_ / 1000.0;
@@ -207,14 +220,25 @@ void CanopenFirmware::sdoAbort(uint16_t index, uint8_t sub, uint32_t code) {
 
 void CanopenFirmware::handleSdo(const CanFrame& f) {
   const uint8_t cmd = f.data[0];
+  const uint8_t ccs = cmd >> 5;
+  if (ccs == 4) {  // the client aborted: forget the transfer, never answer an abort
+    transfer_.active = false;
+    return;
+  }
+  if (ccs == 0 || ccs == 3) return sdoSegment(f);
   const uint16_t index = get16(f, 1);
   const uint8_t sub = f.data[3];
-  const uint8_t ccs = cmd >> 5;
   if (ccs != 1 && ccs != 2) return sdoAbort(index, sub, 0x05040001);  // command specifier unknown
-  auto it = od_.find((static_cast<uint32_t>(index) << 8) | sub);
+  transfer_.active = false;  // a new initiate ends any transfer in progress
+  const uint32_t key = (static_cast<uint32_t>(index) << 8) | sub;
+  auto bytes = bytes_od_.find(key);
+  if (bytes != bytes_od_.end()) return sdoInitiate(f, bytes->second);
+  auto it = od_.find(key);
   if (it == od_.end()) {
     bool index_known = false;
     for (const auto& kv : od_)
+      if ((kv.first >> 8) == index) index_known = true;
+    for (const auto& kv : bytes_od_)
       if ((kv.first >> 8) == index) index_known = true;
     return sdoAbort(index, sub, index_known ? 0x06090011 : 0x06020000);
   }
@@ -226,13 +250,88 @@ void CanopenFirmware::handleSdo(const CanFrame& f) {
     send(r);
     return;
   }
-  // download (write): expedited only
+  // download (write) of a value: expedited only
   if (!(cmd & 0x02)) return sdoAbort(index, sub, 0x05040001);
   if (!o.write) return sdoAbort(index, sub, 0x06010002);
   if ((cmd & 0x01) && 4 - ((cmd >> 2) & 3) != o.size) return sdoAbort(index, sub, 0x06070010);
   const uint32_t value = o.size == 4 ? get32(f, 4) : (get32(f, 4) & ((1u << (8 * o.size)) - 1));
   if (!o.write(value)) return sdoAbort(index, sub, 0x06090030);
   send(CanFrame::make(0x580 + node_id_, {0x60, f.data[1], f.data[2], sub, 0, 0, 0, 0}));
+}
+
+// Initiate on a byte-string object: expedited when it fits in 4 bytes, else a segmented transfer.
+void CanopenFirmware::sdoInitiate(const CanFrame& f, BytesObject& o) {
+  const uint8_t cmd = f.data[0];
+  const uint16_t index = get16(f, 1);
+  const uint8_t sub = f.data[3];
+  transfer_ = SdoTransfer{};
+  transfer_.index = index;
+  transfer_.sub = sub;
+  transfer_.deadline = now() + 1.0;
+  if ((cmd >> 5) == 2) {  // upload
+    const std::string v = o.read();
+    if (!v.empty() && v.size() <= 4) {
+      CanFrame r = CanFrame::make(0x580 + node_id_, {static_cast<uint8_t>(0x43 | ((4 - v.size()) << 2)), f.data[1], f.data[2], sub, 0, 0, 0, 0});
+      for (std::size_t i = 0; i < v.size(); ++i) r.data[4 + i] = static_cast<uint8_t>(v[i]);
+      send(r);
+      return;
+    }
+    CanFrame r = CanFrame::make(0x580 + node_id_, {0x41, f.data[1], f.data[2], sub, 0, 0, 0, 0});
+    put32(r, 4, static_cast<uint32_t>(v.size()));
+    transfer_.active = transfer_.upload = true;
+    transfer_.data = v;
+    send(r);
+    return;
+  }
+  if (!o.write) return sdoAbort(index, sub, 0x06010002);  // read only
+  if (cmd & 0x02) {  // expedited download: 4 bytes, or 4 - n when the size is indicated
+    const std::size_t n = (cmd & 0x01) ? 4 - ((cmd >> 2) & 3) : 4;
+    if (!o.write(std::string(reinterpret_cast<const char*>(f.data.data() + 4), n))) return sdoAbort(index, sub, 0x06070010);
+    send(CanFrame::make(0x580 + node_id_, {0x60, f.data[1], f.data[2], sub, 0, 0, 0, 0}));
+    return;
+  }
+  transfer_.active = true;
+  transfer_.size_indicated = cmd & 0x01;
+  transfer_.size = get32(f, 4);
+  send(CanFrame::make(0x580 + node_id_, {0x60, f.data[1], f.data[2], sub, 0, 0, 0, 0}));
+}
+
+// One segment request (upload, ccs 3) or segment (download, ccs 0) of the transfer in progress.
+void CanopenFirmware::sdoSegment(const CanFrame& f) {
+  const uint8_t cmd = f.data[0];
+  const bool upload = (cmd >> 5) == 3;
+  const bool toggle = cmd & 0x10;
+  if (!transfer_.active || transfer_.upload != upload) {
+    transfer_.active = false;
+    return sdoAbort(transfer_.index, transfer_.sub, 0x05040001);  // no such transfer in progress
+  }
+  if (toggle != transfer_.toggle) {
+    transfer_.active = false;
+    return sdoAbort(transfer_.index, transfer_.sub, 0x05030000);  // toggle bit not alternated
+  }
+  transfer_.toggle = !transfer_.toggle;
+  transfer_.deadline = now() + 1.0;
+  if (upload) {
+    const std::size_t len = std::min<std::size_t>(7, transfer_.data.size() - transfer_.at);
+    const bool last = transfer_.at + len == transfer_.data.size();
+    CanFrame r = CanFrame::make(0x580 + node_id_, {0, 0, 0, 0, 0, 0, 0, 0});
+    r.data[0] = static_cast<uint8_t>((toggle ? 0x10 : 0) | ((7 - len) << 1) | (last ? 1 : 0));
+    for (std::size_t i = 0; i < len; ++i) r.data[1 + i] = static_cast<uint8_t>(transfer_.data[transfer_.at + i]);
+    transfer_.at += len;
+    if (last) transfer_.active = false;
+    send(r);
+    return;
+  }
+  const std::size_t len = 7 - ((cmd >> 1) & 7);
+  transfer_.data.append(reinterpret_cast<const char*>(f.data.data() + 1), len);
+  if (cmd & 0x01) {  // the last segment: the object takes the whole value now
+    transfer_.active = false;
+    if (transfer_.size_indicated && transfer_.data.size() != transfer_.size)
+      return sdoAbort(transfer_.index, transfer_.sub, 0x06070010);
+    BytesObject& o = bytes_od_[(static_cast<uint32_t>(transfer_.index) << 8) | transfer_.sub];
+    if (!o.write(transfer_.data)) return sdoAbort(transfer_.index, transfer_.sub, 0x06070010);
+  }
+  send(CanFrame::make(0x580 + node_id_, {static_cast<uint8_t>(0x20 | (toggle ? 0x10 : 0)), 0, 0, 0, 0, 0, 0, 0}));
 }
 
 void CanopenFirmware::publishTruth() {

@@ -1,6 +1,7 @@
 // The firmware side of a CANopen board (CiA 301 subset), shared by the CAN board emulators:
 // NMT slave (boot-up message after every reset, pre-operational until NMT start, PDOs only in
-// operational), an expedited SDO server over a small object dictionary (aborts for unknown
+// operational), an SDO server (expedited, and segmented with toggle checks and a 1 s segment
+// timeout, for the device name 0x1008 and the rw user label 0x2100) over a small object dictionary (aborts for unknown
 // indices/subindices, read-only and length mismatches), heartbeat producer (0x1017), RTR
 // answers and RPDO reception. Written from the CANopen specification, independently of the
 // driver's encoders (hcl_drivers/canopen), so a shared bug cannot hide; only the bus transport
@@ -24,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "bench_world.h"
@@ -55,13 +57,21 @@ class CanopenFirmware : public Firmware {
   virtual void truth(CanFirmware& m) = 0;             // names/values for /sim/<name>/firmware
   virtual bool boardFault(const std::string&, bool) { return false; }
 
-  // ---- object dictionary (expedited SDO, values up to 4 bytes) ----
+  // ---- object dictionary: values up to 4 bytes (expedited SDO) ----
   struct Object {
     uint8_t size = 4;
     std::function<uint32_t()> read;
     std::function<bool(uint32_t)> write;  // null: read-only; false: value out of range
   };
   void addObject(uint16_t index, uint8_t sub, Object o) { od_[(static_cast<uint32_t>(index) << 8) | sub] = std::move(o); }
+  // ---- and byte strings of any length (expedited when 1..4 bytes, segmented otherwise) ----
+  struct BytesObject {
+    std::function<std::string()> read;
+    std::function<bool(const std::string&)> write;  // null: read-only; false: too long
+  };
+  void addBytesObject(uint16_t index, uint8_t sub, BytesObject o) {
+    bytes_od_[(static_cast<uint32_t>(index) << 8) | sub] = std::move(o);
+  }
 
   // COB-IDs outside this node's id range that the board serves (PDOs mapped elsewhere, EPOS).
   void addExtraCobId(uint32_t cob_id) { extra_cob_ids_.push_back(cob_id); }
@@ -90,6 +100,19 @@ class CanopenFirmware : public Firmware {
   void handle(const CanFrame& f);
   void handleSdo(const CanFrame& f);
   void sdoAbort(uint16_t index, uint8_t sub, uint32_t code);
+  void sdoInitiate(const CanFrame& f, BytesObject& o);
+  void sdoSegment(const CanFrame& f);
+  // A segmented SDO transfer in progress (one at a time, CiA 301 server side).
+  struct SdoTransfer {
+    bool active = false, upload = false, toggle = false, size_indicated = false;
+    uint16_t index = 0;
+    uint8_t sub = 0;
+    uint32_t size = 0;
+    std::string data;
+    std::size_t at = 0;
+    double deadline = 0.0;  // the client must send its next segment before this
+  } transfer_;
+  std::string device_name_, user_label_;
   void powerCycle();
   void publishTruth();
 
@@ -99,6 +122,7 @@ class CanopenFirmware : public Firmware {
   World* world_ = nullptr;
   uint8_t node_id_ = 0;
   std::map<uint32_t, Object> od_;
+  std::map<uint32_t, BytesObject> bytes_od_;
   std::vector<uint32_t> extra_cob_ids_;
   std::mutex mutex_;
   uint8_t nmt_state_ = 0x00;
