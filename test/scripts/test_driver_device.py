@@ -12,7 +12,7 @@ import rostest
 from actionlib_msgs.msg import GoalStatus
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped, PoseWithCovarianceStamped, Twist
-from hal_nodes.msg import (Checkpoint, FollowPathAction, FollowPathGoal, GoStraightAction, GoStraightGoal,
+from hal_nodes.msg import (Checkpoint, FollowPathAction, FollowPathGoal, GoStraightAction, GoStraightGoal, GoStraightResult,
                            GotoAction, GotoGoal, GotoResult, LocalizationQuality, PathEdit, RotateByAction,
                            RotateByGoal)
 from nav_msgs.msg import Odometry, Path
@@ -31,6 +31,7 @@ class Robot(object):
         self.pending = Twist()
         self.cmds = []            # (wall time, linear.x, angular.z)
         self.localize = True      # publish /mcl/pose and /mcl/quality
+        self.odometry = True      # publish /odom (False: the odometry died)
         self.probability = 0.9
         self.odom_pub = rospy.Publisher('/odom', Odometry, queue_size=1)
         self.pose_pub = rospy.Publisher('/mcl/pose', PoseWithCovarianceStamped, queue_size=1)
@@ -81,7 +82,8 @@ class Robot(object):
         o.pose.pose.position.x, o.pose.pose.position.y = x, y
         o.pose.pose.orientation.z, o.pose.pose.orientation.w = math.sin(th / 2), math.cos(th / 2)
         o.twist.twist.linear.x, o.twist.twist.angular.z = v, w
-        self.odom_pub.publish(o)
+        if self.odometry:
+            self.odom_pub.publish(o)
         if k % 5 == 0 and self.localize:  # localization at 20 Hz
             p = PoseWithCovarianceStamped()
             p.header = o.header
@@ -114,6 +116,7 @@ class DriverDeviceTest(unittest.TestCase):
 
     def setUp(self):
         self.robot.localize = True
+        self.robot.odometry = True
         self.robot.probability = 0.9
         self.robot.place(0.5, 0.5, 0.0)
         time.sleep(0.3)
@@ -186,6 +189,19 @@ class DriverDeviceTest(unittest.TestCase):
         self.assertIn('stale', r.message)
         time.sleep(0.2)
         self.assertStoppedAfter(t0, within=0.6 + 0.05 + 0.25)  # max_pose_age + one localization period + slack
+
+    def test_dead_odometry_stops_a_relative_move(self):
+        # A robot builder's guarantee: when odometry really dies, the wheels stop (max_odom_age).
+        self.robot.localize = False
+        self.straight.send_goal(GoStraightGoal(distance=1.0))
+        time.sleep(0.5)
+        t0 = time.monotonic()
+        self.robot.odometry = False
+        self.assertTrue(self.straight.wait_for_result(rospy.Duration(3)))
+        self.assertEqual(self.straight.get_state(), GoalStatus.ABORTED)
+        r = self.straight.get_result()
+        self.assertEqual(r.code, GoStraightResult.ODOMETRY_STALE, r.message)
+        self.assertStoppedAfter(t0, within=0.5 + 0.02 + 0.25)  # max_odom_age + one control period + slack
 
     def test_uncertain_localization_aborts(self):
         self.goto.send_goal(GotoGoal(x=2.5, y=0.5, angle=0.0))

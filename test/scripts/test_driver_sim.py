@@ -61,6 +61,11 @@ class DriverSimTest(unittest.TestCase):
         cls.motor = Log(rospy.get_param('~motor_topic'), MotorCommand)
         cls.quality = Log('/mcl/quality', LocalizationQuality)
         cls.path_msgs = Log('/hal/driver/path', Path)
+        # The age of /odom on arrival (ROS time, the sim clock, minus its stamp): what the driver's
+        # ~max_odom_age is measured against, plus up to one control period.
+        cls.odom_ages = []
+        rospy.Subscriber('/odom', Odometry, lambda m: cls.odom_ages.append((rospy.get_rostime() - m.header.stamp).to_sec()),
+                         queue_size=50, tcp_nodelay=True)
         cls.goto = actionlib.SimpleActionClient('/hal/driver/goto', GotoAction)
         cls.follow = actionlib.SimpleActionClient('/hal/driver/follow_path', FollowPathAction)
         assert cls.goto.wait_for_server(rospy.Duration(60)), 'no /hal/driver/goto'
@@ -75,6 +80,13 @@ class DriverSimTest(unittest.TestCase):
                 break
             time.sleep(0.2)
         time.sleep(2.0)
+
+    @classmethod
+    def tearDownClass(cls):
+        ages = sorted(cls.odom_ages)
+        if ages:
+            print('%s /odom age on arrival over %d messages: p50 %.1f ms, p99 %.1f ms, max %.1f ms'
+                  % (cls.robot, len(ages), 1e3 * ages[len(ages) // 2], 1e3 * ages[int(0.99 * (len(ages) - 1))], 1e3 * ages[-1]))
 
     @classmethod
     def park_opponent(cls):

@@ -54,6 +54,15 @@ class PoseFusion {
     return true;
   }
 
+  // The map pose at time t (within the odometry history, e.g. when a ranger reading was taken);
+  // false without an estimate or odometry then.
+  bool mapPoseAt(double t, Pose2D* out) const {
+    Pose2D odom_then;
+    if (!has_ || raw_ || !odometryAt(t, &odom_then)) return false;
+    *out = compose(correction_, odom_then);
+    return true;
+  }
+
   bool odometryAt(double t, Pose2D* out) const {
     if (odom_.empty() || t < odom_.front().t - 0.05) return false;
     if (t >= odom_.back().t) {

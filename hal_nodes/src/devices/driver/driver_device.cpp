@@ -360,13 +360,16 @@ class Driver : public Effector {
   // Obstacle points in the map from the rangers (via tf) and the tracked opponent.
   std::vector<Point2D> obstacles(const Pose2D& robot) {
     std::vector<Point2D> out;
-    const double c = std::cos(robot.theta), s = std::sin(robot.theta);
     for (const auto& r : rangers_) {
       const auto m = r->fresh(obstacle_max_age_);
       if (!m || !std::isfinite(m->range) || m->range <= m->min_range || m->range >= m->max_range) continue;
       Pose2D mount;
       if (!rangerMount(m->header.frame_id, &mount)) continue;
-      const Pose2D sensor{robot.x + c * mount.x - s * mount.y, robot.y + s * mount.x + c * mount.y, robot.theta + mount.theta};
+      // Placed from where the robot was when the reading was taken (it may have turned since).
+      Pose2D then = robot;
+      fusion_.mapPoseAt(m->header.stamp.toSec(), &then);
+      const double c = std::cos(then.theta), s = std::sin(then.theta);
+      const Pose2D sensor{then.x + c * mount.x - s * mount.y, then.y + s * mount.x + c * mount.y, then.theta + mount.theta};
       // A wide cone sees a border off its axis: such an echo is not the opponent.
       if (avoidance_.borderExplains(sensor, m->field_of_view, m->range)) {
         ++border_echoes_;
@@ -590,9 +593,10 @@ class Driver : public Effector {
     for (const auto& w : waypoints_) route.push_back(w);
     route.push_back({goal_.target.x, goal_.target.y});
     std::vector<Point2D> detour;
-    const bool blocked = autopilot_.phase() == Autopilot::Phase::TURN || autopilot_.phase() == Autopilot::Phase::DRIVE
-                             ? avoid(pose, route, {goal_.target.x, goal_.target.y}, &detour)
-                             : false;
+    // Only while driving: turning in place sweeps no new ground (and a ranger swinging past a
+    // border reads it late); the route is checked again as soon as the robot drives off.
+    const bool blocked = autopilot_.phase() == Autopilot::Phase::DRIVE ? avoid(pose, route, {goal_.target.x, goal_.target.y}, &detour)
+                                                                       : false;
     if (!detour.empty()) {
       waypoints_.insert(waypoints_.begin(), detour.begin(), detour.end());
       startLeg(pose);
