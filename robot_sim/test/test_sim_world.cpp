@@ -331,3 +331,60 @@ TEST(SimWorld, CollectorSwallowsAndEjectsAndMatchScores) {
   EXPECT_EQ(w.match().score, 3);
   EXPECT_FALSE(w.match().over);
 }
+
+// The 2009 hand: fingers closing on a column at the mouth carry it; opening puts it down at
+// the mouth.
+TEST(SimWorld, GripperTakesCarriesAndReleasesAtTheMouth) {
+  WorldConfig c = testConfig();
+  ServoConfig finger;
+  finger.min = -1.2;
+  finger.max = 1.2;
+  finger.speed = 4.0;
+  finger.initial = 0.0;
+  c.robot.servos["hand_left"] = finger;
+  c.robot.servos["hand_right"] = finger;
+  CollectorConfig hand;
+  hand.x = 0.17;
+  hand.radius = 0.05;
+  hand.capacity = 1;
+  hand.kinds = {"column_red"};
+  hand.fingers = {"hand_left", "hand_right"};
+  hand.finger_closed = {0.94, -0.94};
+  c.robot.collectors["hand"] = hand;
+  GameElement column;
+  column.kind = "column_red";
+  column.radius = 0.035;
+  column.pose = Pose2D{0.5 + 0.17, 1.05, 0.0};  // at the mouth of the robot at (0.5, 1.05)
+  GameElement other = column;
+  other.pose = Pose2D{1.5, 1.05, 0.0};
+  c.table.elements = {column, other};
+  SimWorld w(c, 1);
+  // One finger closed: no grip.
+  w.setServoTarget("hand_left", 0.94);
+  run(w, 0.6);
+  EXPECT_FALSE(w.elements()[0].carried);
+  w.setServoTarget("hand_right", -0.94);
+  run(w, 0.6);
+  ASSERT_TRUE(w.elements()[0].carried);
+  EXPECT_FALSE(w.elements()[1].carried);
+  // Turn on the spot by 90 degrees, open: the column stands at the mouth, (0.5, 1.22).
+  w.setMotorCommand("left", -0.2);
+  w.setMotorCommand("right", 0.2);
+  while (w.robotTruth().pose.theta < M_PI / 2) w.step();
+  w.setMotorCommand("left", 0.0);
+  w.setMotorCommand("right", 0.0);
+  run(w, 0.5);
+  EXPECT_TRUE(w.elements()[0].carried);
+  w.setServoTarget("hand_left", -1.2);
+  run(w, 0.6);
+  const auto put = w.elements()[0];
+  EXPECT_FALSE(put.carried);
+  const Pose2D r = w.robotTruth().pose;
+  // Put down ahead of the robot, at the mouth or just outside the body that pushes it.
+  const double d = std::hypot(put.pose.x - r.x, put.pose.y - r.y);
+  EXPECT_GE(d, 0.17 - 1e-6);
+  EXPECT_LE(d, c.robot.radius + column.radius + 1e-6);
+  EXPECT_NEAR(std::atan2(put.pose.y - r.y, put.pose.x - r.x), r.theta, 1e-3);
+  EXPECT_GT(put.pose.y, 1.15);
+  EXPECT_FALSE(w.elements()[1].carried);
+}

@@ -294,7 +294,16 @@ RobotConfig parseRobot(const Node& n) {
     c.kinds = s.strings("kinds");
     c.capacity = static_cast<int>(s.integer("capacity", c.capacity));
     c.motor = s.str("motor", "");
-    if (!r.motors.count(c.motor)) s.fail("motor", "= '" + c.motor + "': must name a motor of this robot");
+    c.fingers = s.strings("fingers");
+    if (c.fingers.empty() == c.motor.empty())
+      s.fail("motor", "give either motor (a collector) or fingers + finger_closed (a gripper)");
+    if (!c.motor.empty() && !r.motors.count(c.motor)) s.fail("motor", "= '" + c.motor + "': must name a motor of this robot");
+    for (const auto& f : c.fingers)
+      if (!r.servos.count(f)) s.fail("fingers", "= '" + f + "': must name servos of this robot");
+    if (!c.fingers.empty()) {
+      c.finger_closed = s.numbers("finger_closed", c.fingers.size(), c.fingers.size());
+      c.finger_tolerance = s.positive("finger_tolerance", c.finger_tolerance);
+    }
     r.collectors[name] = c;
   }
   const Node sl = n.child("slip");

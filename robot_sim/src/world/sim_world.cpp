@@ -313,11 +313,54 @@ void SimWorld::stepRobot(double dt) {
   }
 }
 
+// A gripper (the 2009 hand) takes the nearest matching element at its mouth when its fingers
+// close, carries it, and puts it down at the mouth when a finger opens. The lift's height is
+// not modelled: a released element stands on the table (no stacking).
+void SimWorld::stepGripper(Collector& c) {
+  bool closed = true;
+  for (std::size_t i = 0; i < c.config.fingers.size(); ++i)
+    closed = closed && std::abs(servos_.at(c.config.fingers[i]).position - c.config.finger_closed[i]) <= c.config.finger_tolerance;
+  const Pose2D mouth = toMap(c.config.x, c.config.y);
+  if (!closed) {
+    for (GameElement* e : c.gripped) {
+      e->carried = false;
+      e->pose.x = mouth.x;
+      e->pose.y = mouth.y;
+    }
+    c.gripped.clear();
+    c.held = 0;
+    c.was_closed = false;
+    return;
+  }
+  if (c.was_closed) return;  // fingers closed on nothing stay empty until they open again
+  c.was_closed = true;
+  GameElement* best = nullptr;
+  double best_d = c.config.radius;
+  for (auto& e : elements_) {
+    const bool kind_ok =
+        c.config.kinds.empty() || std::find(c.config.kinds.begin(), c.config.kinds.end(), e.kind) != c.config.kinds.end();
+    const double d = std::hypot(e.pose.x - mouth.x, e.pose.y - mouth.y);
+    if (!e.carried && kind_ok && d <= best_d) {
+      best = &e;
+      best_d = d;
+    }
+  }
+  if (best && c.held < c.config.capacity) {
+    best->carried = true;
+    c.gripped.push_back(best);
+    ++c.held;
+  }
+}
+
 void SimWorld::stepElements(double dt) {
   // Collectors swallow matching elements at their mouth while their motor runs forward and
   // spit one out ahead every 0.25 s while it runs backward.
   for (auto& kv : collectors_) {
     Collector& c = kv.second;
+    if (!c.config.fingers.empty()) {
+      stepGripper(c);
+      continue;
+    }
     const double cmd = motors_.at(c.config.motor).state.command;
     const Pose2D mouth = toMap(c.config.x, c.config.y);
     c.eject_cooldown = std::max(0.0, c.eject_cooldown - dt);

@@ -110,6 +110,12 @@ struct CollectorConfig {
   std::vector<std::string> kinds;
   int capacity = 5;
   std::string motor;           // active while |command| > 0.1, ejects while command < -0.1
+  // A gripper instead (the 2009 hand): no motor; it holds what is at its mouth while every
+  // finger servo is within finger_tolerance of its closed angle, and lets go at the mouth when
+  // a finger opens.
+  std::vector<std::string> fingers;
+  std::vector<double> finger_closed;   // [rad], one per finger
+  double finger_tolerance = 0.2;       // [rad]
 };
 
 struct SlipConfig {

@@ -107,7 +107,10 @@ class SimWorld : public World {
     CollectorConfig config;
     int held = 0;
     double eject_cooldown = 0.0;
+    std::vector<GameElement*> gripped;  // a gripper's elements (into elements_, never resized)
+    bool was_closed = false;            // a gripper grips once per closing
   };
+  void stepGripper(Collector& c);
 
   void stepRobot(double dt);
   void stepElements(double dt);
