@@ -74,9 +74,10 @@ class JoystickTest(unittest.TestCase):
     def test_1_axes_drive_with_the_deadman_held(self):
         self.set_pad(left_y=0.5, right_x=-0.25)
         t0 = time.monotonic()
-        ok = wait_for(lambda: any(abs(m.linear.x - 0.25) < 1e-6 and abs(m.angular.z + 0.5) < 1e-6
+        # right_x -0.25 is the stick a quarter to the left: turn left, +0.5 rad/s (REP-103)
+        ok = wait_for(lambda: any(abs(m.linear.x - 0.25) < 1e-6 and abs(m.angular.z - 0.5) < 1e-6
                                   for m in self.cmd.since(t0)), 2.0)
-        self.assertTrue(ok, 'expected 0.25 m/s, -0.5 rad/s; got %s' % self.cmd.latest())
+        self.assertTrue(ok, 'expected 0.25 m/s, 0.5 rad/s; got %s' % self.cmd.latest())
 
     def test_2_releasing_the_deadman_stops(self):
         self.set_pad(left_y=1.0, deadman=False)

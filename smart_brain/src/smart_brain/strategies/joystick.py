@@ -111,8 +111,10 @@ class JoystickStrategy(Strategy):
         if self.deadman and not held.get(self.deadman, False):
             return 0.0, 0.0
         clamp = lambda v: max(-1.0, min(1.0, v))  # noqa: E731
+        # HAL's X axes read +1 to the right (Linux's convention); a stick to the right turns the
+        # robot right, which is negative angular z (REP-103): hence the minus.
         return (clamp(axes.get(self.linear_axis, 0.0)) * self.max_linear,
-                clamp(axes.get(self.angular_axis, 0.0)) * self.max_angular)
+                -clamp(axes.get(self.angular_axis, 0.0)) * self.max_angular)
 
     def _on_state(self, msg):
         if self._stopped:
