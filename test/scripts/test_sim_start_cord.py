@@ -3,7 +3,6 @@
 the world's cord starts inserted, the servo board driver and the HMI device show it inserted, and
 pulling it (the simulator's switch, nothing else) starts the brain's match. Every switch word the
 driver publishes must be one the robot's own emulator sent (no frames of another simulation)."""
-import threading
 import time
 import unittest
 
@@ -15,35 +14,7 @@ from robot_sim.msg import CanFirmware
 from robot_sim.srv import SetSwitch
 from smart_brain.msg import MatchStatus
 
-
-class Recorder(object):
-    """Every message of a topic, with its arrival time (monotonic)."""
-
-    def __init__(self, topic, msg_type):
-        self.msgs = []
-        self.lock = threading.Lock()
-        rospy.Subscriber(topic, msg_type, self._cb, queue_size=100)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.msgs.append((time.monotonic(), msg))
-
-    def last(self):
-        with self.lock:
-            return self.msgs[-1][1] if self.msgs else None
-
-    def since(self, t):
-        with self.lock:
-            return [m for (at, m) in self.msgs if at >= t]
-
-
-def wait_for(pred, timeout, step=0.1):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if pred():
-            return True
-        time.sleep(step)
-    return bool(pred())
+from hal_test_common import Recorder, wait_for
 
 
 def cord_bit(inputs):
@@ -67,10 +38,10 @@ class StartCordTest(unittest.TestCase):
         t0 = time.monotonic()
         self.assertTrue(wait_for(lambda: len(inputs.since(t0)) >= 50, 20.0))
         # Our emulator's switch word has the cord (bit 4) closed, and the driver reads nothing else.
-        words = set(int(m.values[list(m.names).index('switches')]) for m in firmware.since(0))
+        words = set(int(m.values[list(m.names).index('switches')]) for m in firmware.messages())
         self.assertTrue(all(w & 0x10 for w in words), 'the emulator sent the cord open: %s' % words)
-        seen = [m.bits for m in inputs.since(t0)]
-        self.assertTrue(all(cord_bit(m) == 1 for m in inputs.since(t0)),
+        seen = [m.bits for _, m in inputs.since(t0)]
+        self.assertTrue(all(cord_bit(m) == 1 for _, m in inputs.since(t0)),
                         'the driver read the cord open while it was inserted (foreign frames?): %s' % sorted(set(seen)))
         # Pull it: the simulator's switch only (no /brain/start).
         rospy.wait_for_service('/sim/set_switch', 10.0)
