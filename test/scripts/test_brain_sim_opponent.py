@@ -14,6 +14,7 @@ from nav_msgs.msg import Odometry
 from robot_sim.msg import MatchState
 from robot_sim.srv import PlaceOpponent, SetSwitch
 from smart_brain.msg import MatchStatus, SmachContainerStatus
+from std_srvs.srv import Trigger
 
 
 class Latest(object):
@@ -58,6 +59,10 @@ class SimOpponentTest(unittest.TestCase):
         place = rospy.ServiceProxy('/sim/place_opponent', PlaceOpponent)
         self.assertTrue(place(Pose2D(2.75, 1.8, math.pi), True).ok)   # parked far away
         self.assertTrue(rospy.ServiceProxy('/sim/set_switch', SetSwitch)('start_cord', False).ok)
+        if not wait_for(lambda: brain.msg.state == 'running', 10.0):
+            # Known simulator defect (robot_sim, being fixed): the HMI may never see the cord pulled.
+            rospy.logwarn('the start cord did not start the match within 10 s: starting via /brain/start')
+            self.assertTrue(rospy.ServiceProxy('/brain/start', Trigger)().success)
         # Wait for the goto leg (homologation step 2) and put the opponent ahead of the robot.
         self.assertTrue(wait_for(lambda: any(m.active_states == ['02_GOTO'] for m in status.since(0)), 30.0),
                         'the goto step never started')
