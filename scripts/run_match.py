@@ -11,16 +11,19 @@ match clock, stops everything once the brain reports the match ended, and writes
 report. Prints where the bag and the report are and the referee's score. Robots without a
 match (skeleton) just run.
 
-A robot whose launch has a `can_bus` argument gets a CAN-over-UDP bus of its own (a free
-port): two simulations on one bus answer each other's drivers (a second simulated robot on
-the machine, e.g. a test, made the start cord read open).
+A robot whose launch has `can_bus`, `camera_port` or `sim_dir` arguments gets channels of its
+own (free ports, a fresh directory): two simulations on one CAN bus answer each other's drivers
+(a second simulated robot on the machine, e.g. a test, made the start cord read open), and a
+taken camera port stops the simulator.
 """
 import argparse
 import os
+import shutil
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -58,8 +61,17 @@ def main():
             os.remove(stale)
     cmd = ['roslaunch', launch, 'record:=true', 'bag:=' + bag, 'seed:=' + args.seed,
            'real_time_factor:=' + args.real_time_factor]
-    if 'name="can_bus"' in open(launch).read():
-        cmd.append('can_bus:=udp://127.0.0.1:%d' % free_udp_port())
+    # Channels of its own, so a simulation already running here (a test) cannot answer this
+    # robot's drivers nor hold its ports.
+    declared = open(launch).read()
+    sim_dir = None
+    if 'name="can_bus"' in declared:
+        cmd.append('can_bus:=udp://127.0.0.1:%d' % free_port(socket.SOCK_DGRAM))
+    if 'name="camera_port"' in declared:
+        cmd.append('camera_port:=%d' % free_port(socket.SOCK_STREAM))
+    if 'name="sim_dir"' in declared:
+        sim_dir = tempfile.mkdtemp(prefix='robot_sim_%s_' % args.robot)
+        cmd.append('sim_dir:=' + sim_dir)
     if args.strategy:
         cmd.append('strategy:=' + args.strategy)
     log('starting the simulated %s robot headless: %s' % (args.robot, ' '.join(cmd[2:])))
@@ -74,6 +86,8 @@ def main():
             proc.wait(timeout=30)
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)
+        if sim_dir:
+            shutil.rmtree(sim_dir, ignore_errors=True)
     log('launch output: %s' % launch_log.name)
     if not os.path.exists(bag):
         sys.exit('run: no bag was written (%s); see the launch output' % bag)
@@ -85,9 +99,9 @@ def main():
     return 0 if (ended and rc == 0) else 1
 
 
-def free_udp_port():
-    """A UDP port on loopback nobody holds now (the CAN bus hub of this run binds it)."""
-    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+def free_port(kind):
+    """A UDP or TCP port on loopback nobody holds now (this run's emulators bind it)."""
+    s = socket.socket(socket.AF_INET, kind)
     s.bind(('127.0.0.1', 0))
     port = s.getsockname()[1]
     s.close()
