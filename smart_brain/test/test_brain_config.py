@@ -41,6 +41,7 @@ class BrainConfigTest(unittest.TestCase):
                 name = args.pop('action')
                 args.pop('attempts', None)
                 args.pop('label', None)
+                args.pop('on_abort', None)   # a step option of steps.py, not an action argument
                 self.assertIn(name, actions.available(), '%s step %d' % (robot, i))
                 # The arguments bind to the action's factory (typos fail here, not in a match).
                 inspect.signature(actions._ACTIONS[name]).bind(**args)

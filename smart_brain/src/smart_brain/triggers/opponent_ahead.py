@@ -2,7 +2,9 @@
 
 Config (~triggers/opponent_ahead): rangers (names under /hal/rangers/ looking forwards),
 rear_rangers (used while driving backwards, from /odom), distance [m], max_age [s] of a
-reading, debounce, holdoff [s], clear_time, max_wait [s], then (decision after max_wait).
+reading, debounce, holdoff [s], clear_time, max_wait [s], then (decision after max_wait),
+border_tolerance [m] (set: an echo the table border explains from the robot's pose is not the
+opponent, border_echo.py; table size from /table/length, /table/width).
 Fires -> zero wheel speed at once, the running state is preempted (its driver goal
 cancelled), the handler waits for the way to clear, then the state resumes.
 """
@@ -18,7 +20,7 @@ KIND = 'opponent_ahead'
 
 
 class RangerWatch(object):
-    def __init__(self, front, rear, distance, max_age, notify):
+    def __init__(self, front, rear, distance, max_age, notify, border=None):
         import rospy
         from nav_msgs.msg import Odometry
         from sensor_msgs.msg import Range
@@ -29,6 +31,7 @@ class RangerWatch(object):
         self._backwards = False
         self._front, self._rear = list(front), list(rear)
         self._notify = notify
+        self._border = border
         self._subs = [rospy.Subscriber('/hal/rangers/' + n, Range, self._on_range, callback_args=n, queue_size=1)
                       for n in self._front + self._rear]
         if self._rear:
@@ -36,6 +39,8 @@ class RangerWatch(object):
 
     def _on_range(self, msg, name):
         near = msg.min_range <= msg.range < self.distance and msg.range <= msg.max_range
+        if near and self._border is not None and self._border.explains(msg):
+            near = False
         with self._lock:
             self._latest[name] = (time.monotonic(), near)
         if near:
@@ -60,11 +65,17 @@ def make(values):
     max_age = cfg.get('max_age', 0.5)
     debounce = cfg.get('debounce', 0.0)
     holdoff = cfg.get('holdoff', 1.0)
+    border_tolerance = cfg.get('border_tolerance', -1.0)
     handler_args = dict(clear_time=cfg.get('clear_time', 0.5), max_wait=cfg.get('max_wait', 3.0),
                         then=decision_param(cfg))
     cfg.done()
     trig = Trigger(KIND, None, None, debounce=debounce, holdoff=holdoff, priority=2, on_fire=publish_zero)
-    watch = RangerWatch(front, rear, distance, max_age, trig.notify)
+    border = None
+    if border_tolerance >= 0.0:
+        import rospy
+        from smart_brain.triggers.border_echo import BorderEcho
+        border = BorderEcho(rospy.get_param('/table/length'), rospy.get_param('/table/width'), border_tolerance)
+    watch = RangerWatch(front, rear, distance, max_age, trig.notify, border)
     trig.condition = watch
     trig.handler = WaitClear(watch, **handler_args)
     return trig

@@ -1,0 +1,58 @@
+"""BorderEcho: is a ranger's echo the table border rather than the opponent?
+
+The SHARPs and SRF02s see the table's borders as well as the opponent; a robot in its start
+zone or near a wall would otherwise stop for a wall forever. From the sensor's pose in `map`
+(tf: map -> the Range message's frame) the distance to the border is taken over rays across
+the sensor's cone; an echo at least that far (less `tolerance`) is the border. Without a
+pose (no tf yet) nothing is explained away: an unknown echo still stops the robot.
+"""
+import math
+
+
+def ray_to_border(x, y, heading, length, width):
+    """Distance from (x, y) inside the [0, length] x [0, width] table to its border along heading."""
+    c, s = math.cos(heading), math.sin(heading)
+    best = math.inf
+    if c > 1e-9:
+        best = min(best, (length - x) / c)
+    elif c < -1e-9:
+        best = min(best, -x / c)
+    if s > 1e-9:
+        best = min(best, (width - y) / s)
+    elif s < -1e-9:
+        best = min(best, -y / s)
+    return max(0.0, best)
+
+
+def border_distance(x, y, heading, field_of_view, length, width, rays=9):
+    """Nearest border distance over `rays` rays spread across the cone."""
+    if not (0.0 <= x <= length and 0.0 <= y <= width):
+        return 0.0
+    if rays < 2 or field_of_view <= 0.0:
+        return ray_to_border(x, y, heading, length, width)
+    return min(ray_to_border(x, y, heading - field_of_view / 2 + i * field_of_view / (rays - 1), length, width)
+               for i in range(rays))
+
+
+class BorderEcho(object):
+    def __init__(self, length, width, tolerance, map_frame='map', tf_timeout=0.05):
+        import tf2_ros
+        import rospy
+        self.length, self.width, self.tolerance = float(length), float(width), float(tolerance)
+        self.map_frame = map_frame
+        self._timeout = rospy.Duration(tf_timeout)
+        self._buffer = tf2_ros.Buffer()
+        self._listener = tf2_ros.TransformListener(self._buffer)
+
+    def explains(self, msg):
+        """True when the Range message's echo is (about) where the border is."""
+        import rospy
+        try:
+            t = self._buffer.lookup_transform(self.map_frame, msg.header.frame_id, rospy.Time(0), self._timeout)
+        except Exception:
+            return False
+        q = t.transform.rotation
+        heading = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        d = border_distance(t.transform.translation.x, t.transform.translation.y, heading, msg.field_of_view,
+                            self.length, self.width)
+        return msg.range >= d - self.tolerance
