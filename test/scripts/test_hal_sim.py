@@ -1,6 +1,15 @@
 #!/usr/bin/env python3
 """HCL + HAL of a robot against the simulator: odometry vs /sim/ground_truth over a 10 m
-route, beacon ranges vs true distances, /effectors/deactivate latency at the motors."""
+route, beacon ranges vs true distances, /effectors/deactivate latency at the motors, and where
+the robot has them, compass headings and ranger readings vs the emulators' truth.
+
+Private parameters (robot specific, from the .test file):
+  ~motor_check     can_bus: the motor board's zero command frame on the CAN-over-UDP bus
+                   (/hcl/motor_board/*); hbmotor: the HBmotor boards' read-back duty (~motor_states)
+  ~motor_states    HBMotorState topics (hbmotor)
+  ~compass_truth   the compass emulator's truth topic (std_msgs/Float64 [deg]), empty: no compass
+  ~rangers         {HAL ranger name: the SRF02 emulator's truth topic (std_msgs/Float64 [m])}"""
+import contextlib
 import math
 import socket
 import struct
@@ -12,7 +21,10 @@ import rospy
 import rostest
 from geometry_msgs.msg import Twist
 from hal_nodes.msg import BeaconRange
-from hcl_drivers.msg import MotorBoardState
+from hal_nodes.msg import Heading
+from hcl_drivers.msg import HBMotorState, MotorBoardState
+from sensor_msgs.msg import Range
+from std_msgs.msg import Float64
 from nav_msgs.msg import Odometry
 
 from hal_test_common import DeviceDiagnostics, EffectorSwitch, is_active, wait_for
@@ -24,6 +36,11 @@ def yaw_of(q):
 
 def wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
+
+
+def median(values):
+    values = sorted(values)
+    return values[len(values) // 2] if values else float('nan')
 
 
 class Latest(object):
@@ -179,13 +196,27 @@ class HalSimTest(unittest.TestCase):
         cov = self.odom.get().pose.covariance
         self.assertGreater(cov[0] + cov[7], 0.0)
 
-    def test_2_beacon_ranges_match_true_distances(self):
+    def test_2_standing_still_readings_match_the_sim(self):
+        """Beacon ranges vs the true distances; compass and rangers (where the robot has them)
+        vs what the emulated modules measured. One window: the robot stands still."""
+        compass_truth = rospy.get_param('~compass_truth', '')
+        rangers = rospy.get_param('~rangers', {})
         beacons = rospy.get_param('/table/beacons')
         ranges = Latest('/hal/beacons/ranges', BeaconRange, keep=True)
+        heading = Latest('/hal/compass/heading', Heading, keep=True) if compass_truth else None
+        bearing = Latest(compass_truth, Float64, keep=True) if compass_truth else None
+        hal = {n: Latest('/hal/rangers/' + n, Range, keep=True) for n in rangers}
+        truth = {n: Latest(t, Float64, keep=True) for n, t in rangers.items()}
         t0 = time.monotonic()
-        time.sleep(4.0)  # the robot stands still: compare against its true position
-        tp = self.truth.get().pose.pose.position
-        got = [m for t, m in ranges.items if t >= t0]
+        time.sleep(4.0)
+        tp = self.truth.get().pose.pose
+        self.check_beacons([m for t, m in ranges.items if t >= t0], beacons, tp.position)
+        if compass_truth:
+            self.check_compass(heading, bearing, yaw_of(tp.orientation))
+        if rangers:
+            self.check_rangers(hal, truth)
+
+    def check_beacons(self, got, beacons, tp):
         self.assertGreater(len(got), 20, 'too few beacon ranges')
         errors = []
         for m in got:
@@ -198,45 +229,112 @@ class HalSimTest(unittest.TestCase):
         self.assertLess(abs(median), 0.02)
         self.assertGreater(len(inliers), 0.9 * len(got))
 
-    def test_3_deactivate_stops_the_motors_within_50ms(self):
-        state = Latest('/hcl/motor_board/state', MotorBoardState, keep=True)
-        bus = CanBusListener(rospy.get_param('/hcl/motor_board/bus'))
-        command_cob_id = int(str(rospy.get_param('/hcl/motor_board/command_cob_id', 0x200 + 10)), 0)
+    def check_compass(self, heading, bearing, true_yaw):
+        # Each side samples its own noise: compare medians over the window.
+        north = rospy.get_param('/hal/compass/north_yaw')
+        sign = -1.0 if rospy.get_param('/hal/compass/mounting_clockwise', False) else 1.0
+        hal_yaw = [m.yaw for _, m in heading.items]
+        emu_yaw = [wrap(north + sign * math.radians(m.data)) for _, m in bearing.items]
+        self.assertGreater(len(hal_yaw), 20, 'too few headings')
+        e_emu = wrap(median(hal_yaw) - median(emu_yaw))
+        e_true = wrap(median(hal_yaw) - true_yaw)
+        print('compass: %d headings, median vs the emulated module %.4f rad, vs the true yaw %.3f rad' %
+              (len(hal_yaw), e_emu, e_true))
+        self.assertLess(abs(e_emu), 0.02)  # the HAL's conversion of what the module measured
+        self.assertLess(abs(e_true), 0.15)  # the module's bias (sim: 4 deg) and noise, nothing more
+
+    def check_rangers(self, hal, truth):
+        compared = 0
+        for n in hal:
+            t_med = median([m.data for _, m in truth[n].items])
+            h = [m.range for _, m in hal[n].items if math.isfinite(m.range)]
+            if not 0.2 < t_med < 5.0:  # no echo, or too close for an SRF02: nothing to compare
+                print('ranger %s: true distance %.3f m, not compared' % (n, t_med))
+                continue
+            self.assertGreater(len(h), 10, 'too few readings of ranger ' + n)
+            print('ranger %s: %d readings, median %.3f m vs the emulator\'s %.3f m' % (n, len(h), median(h), t_med))
+            self.assertLess(abs(median(h) - t_med), 0.05)
+            compared += 1
+        self.assertGreater(compared, 0, 'no ranger saw anything to compare')
+
+    @contextlib.contextmanager
+    def driving(self, v):
+        """Keep commanding v [m/s] straight ahead (as the brain would) inside the block."""
         stop = threading.Event()
 
         def keep_driving():
             while not stop.is_set():
-                self.drive(0.2, 0.0)
+                self.drive(v, 0.0)
                 time.sleep(0.02)
         th = threading.Thread(target=keep_driving)
         th.start()
         try:
-            self.assertTrue(wait_for(lambda: state.get() and any(state.get().pwm_applied), 5.0), 'the motors are not driven')
-            self.assertTrue(wait_for(lambda: bus.data_frames(command_cob_id, time.time() - 0.1), 3.0), 'no motor command on the bus')
-            # From the request (on an open connection) to the motor board's zero command on the
-            # bus (kernel receive stamp): deactivate service -> drive effector -> HCL motor
-            # board driver -> CAN frame the emulator applies on receipt.
-            t_call = time.monotonic()
-            wall_call = time.time()
-            self.effectors.deactivate()
-            zero = wait_for(lambda: [t for t, d in bus.data_frames(command_cob_id, wall_call) if d[:4] == bytes(4)], 1.0)
-            self.assertTrue(zero, 'no zero motor command on the bus after deactivate')
-            stopped = wait_for(lambda: [t for t, m in state.items if t >= t_call and not any(m.pwm_applied)], 1.0)
-            self.assertTrue(stopped, 'the motor board never reported the motors stopped')
-            latency = zero[0] - wall_call
-            time.sleep(1.0)
-            nonzero = [t for t, d in bus.data_frames(command_cob_id, zero[0]) if d[:4] != bytes(4)]
-            speed = abs(self.truth.get().twist.twist.linear.x)
-            print('deactivate -> zero motor command on the bus: %.1f ms (state reporting 0 reached the test after %.1f ms); '
-                  'speed 1 s later %.3f m/s' % (1e3 * latency, 1e3 * (stopped[0] - t_call), speed))
-            self.assertLess(latency, 0.05)
-            self.assertFalse(nonzero, 'the motors were commanded again while deactivated')
-            self.assertLess(speed, 0.01)
+            yield
         finally:
             stop.set()
             th.join()
-            bus.close()
+
+    def test_3_deactivate_stops_the_motors_within_50ms(self):
+        at_can_bus = rospy.get_param('~motor_check', 'can_bus') == 'can_bus'
+        try:
+            with self.driving(0.2):
+                latency = self.deactivate_at_can_bus() if at_can_bus else self.deactivate_at_hbmotors()
+                time.sleep(0.5)  # + the 0.5 s watch for new commands: 1 s after the call
+            speed = abs(self.truth.get().twist.twist.linear.x)
+            print('speed 1 s after deactivate: %.3f m/s' % speed)
+            self.assertLess(latency, 0.05)
+            self.assertLess(speed, 0.01)
+        finally:
             self.effectors.activate()
+
+    def deactivate_at_can_bus(self):
+        """From the request (on an open connection) to the motor board's zero command on the
+        bus (kernel receive stamp): deactivate service -> drive effector -> HCL motor board
+        driver -> the CAN frame the emulator applies on receipt. Returns it [s]."""
+        state = Latest('/hcl/motor_board/state', MotorBoardState, keep=True)
+        bus = CanBusListener(rospy.get_param('/hcl/motor_board/bus'))
+        cob_id = int(str(rospy.get_param('/hcl/motor_board/command_cob_id', 0x200 + 10)), 0)
+        try:
+            self.assertTrue(wait_for(lambda: state.get() and any(state.get().pwm_applied), 5.0), 'the motors are not driven')
+            self.assertTrue(wait_for(lambda: bus.data_frames(cob_id, time.time() - 0.1), 3.0), 'no motor command on the bus')
+            t_call = time.monotonic()
+            wall_call = time.time()
+            self.effectors.deactivate()
+            zero = wait_for(lambda: [t for t, d in bus.data_frames(cob_id, wall_call) if d[:4] == bytes(4)], 1.0)
+            self.assertTrue(zero, 'no zero motor command on the bus after deactivate')
+            stopped = wait_for(lambda: [t for t, m in state.items if t >= t_call and not any(m.pwm_applied)], 1.0)
+            self.assertTrue(stopped, 'the motor board never reported the motors stopped')
+            time.sleep(0.5)
+            self.assertFalse([t for t, d in bus.data_frames(cob_id, zero[0]) if d[:4] != bytes(4)],
+                             'the motors were commanded again while deactivated')
+            print('deactivate -> zero motor command on the bus: %.1f ms (state reporting 0 reached the test after %.1f ms)' %
+                  (1e3 * (zero[0] - wall_call), 1e3 * (stopped[0] - t_call)))
+            return zero[0] - wall_call
+        finally:
+            bus.close()
+
+    def deactivate_at_hbmotors(self):
+        """From the request (on an open connection) to every HBmotor board reading back duty 0,
+        stamped (simulated time) at the poll that read it. Returns it [s]."""
+        states = [Latest(t, HBMotorState, keep=True) for t in rospy.get_param('~motor_states')]
+        self.assertTrue(wait_for(lambda: all(s.get() and s.get().command != 0 for s in states), 5.0),
+                        'the motors are not driven')
+        t_call = time.monotonic()
+        sim_call = rospy.Time.now()
+        self.effectors.deactivate()
+        firsts = []
+        for s in states:
+            z = wait_for(lambda: [(t, m) for t, m in s.items if t >= t_call and m.command == 0], 1.0)
+            self.assertTrue(z, 'a motor board never applied 0')
+            firsts.append(z[0])
+        seen = max(t for t, _ in firsts)
+        time.sleep(0.5)
+        self.assertFalse([m.command for s in states for t, m in s.items if t >= seen and m.command != 0],
+                         'the motors were driven again while deactivated')
+        latency = max((m.header.stamp - sim_call).to_sec() for _, m in firsts)
+        print('deactivate -> every H-bridge reads back duty 0: %.1f ms simulated time (%.1f ms until the test saw it)' %
+              (1e3 * latency, 1e3 * (seen - t_call)))
+        return latency
 
 
 if __name__ == '__main__':
