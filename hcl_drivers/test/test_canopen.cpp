@@ -339,6 +339,14 @@ TEST_F(RemoteNodeTest, NmtPdoRtrCallbacksAndBootUp) {
   EXPECT_TRUE(node_->waitFor([&] { return got; }, 1.0));
   EXPECT_EQ(scripted_->nmt_seen_.load(), 0x01);
 
+  // Heartbeat consumption: the node's own NMT state and the age of its last heartbeat.
+  EXPECT_EQ(node_->heartbeatState(), NmtState::kUnknown);
+  EXPECT_LT(node_->heartbeatAge(), 0.0) << "no heartbeat yet";
+  scripted_->send(CanFrame::make(0x705, {0x7F}));
+  EXPECT_TRUE(node_->waitFor([&] { return node_->heartbeatState() == NmtState::kPreOperational; }, 1.0));
+  EXPECT_GE(node_->heartbeatAge(), 0.0);
+  EXPECT_LT(node_->heartbeatAge(), 0.5);
+
   int boots = 0;
   node_->onBootUp([&] { ++boots; });
   scripted_->send(CanFrame::make(0x705, {0x00}));

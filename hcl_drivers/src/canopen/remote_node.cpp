@@ -52,6 +52,11 @@ bool RemoteNode::requestPdo(uint32_t cob_id, uint8_t dlc) { return sendRaw(encod
 
 double RemoteNode::lastHeardAge() const { return last_heard_ < 0 ? -1.0 : nowS() - last_heard_; }
 
+double RemoteNode::heartbeatAge() const {
+  const double t = last_heartbeat_;
+  return t < 0 ? -1.0 : nowS() - t;
+}
+
 void RemoteNode::dispatch(const CanFrame& f) {
   if (f.error || f.extended) {
     ++unknown_;
@@ -76,6 +81,8 @@ void RemoteNode::dispatch(const CanFrame& f) {
       return;
     }
     last_heard_ = nowS();
+    last_heartbeat_ = last_heard_;
+    heartbeat_state_ = hb->state;
     state_ = hb->state;
     if (hb->bootUp()) {
       ++boot_ups_;

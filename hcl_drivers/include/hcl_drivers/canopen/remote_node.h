@@ -7,6 +7,7 @@
 // dispatched to the callbacks only inside pump()/waitFor()/sdoRead()/sdoWrite().
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -63,6 +64,10 @@ class RemoteNode {
   NmtState state() const { return state_; }
   // The master's belief after commands: operational once started, pre-op after a boot-up.
   void assumeState(NmtState s) { state_ = s; }
+  // What the node's own heartbeats (and boot-up) said, readable from any thread: its NMT state
+  // and the seconds since the last one was dispatched (negative when none yet).
+  NmtState heartbeatState() const { return heartbeat_state_; }
+  double heartbeatAge() const;
   unsigned long bootUps() const { return boot_ups_; }
   unsigned long malformed() const { return malformed_; }
   unsigned long unknownCobIds() const { return unknown_; }
@@ -96,6 +101,8 @@ class RemoteNode {
   unsigned long sdo_aborts_ = 0;
   unsigned long sdo_timeouts_ = 0;
   double last_heard_ = -1.0;
+  std::atomic<NmtState> heartbeat_state_{NmtState::kUnknown};
+  std::atomic<double> last_heartbeat_{-1.0};
   std::string last_error_;
 };
 

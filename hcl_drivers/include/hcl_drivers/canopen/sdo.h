@@ -28,6 +28,7 @@ namespace canopen {
 
 // Standard objects (CiA 301) the master reads.
 constexpr uint16_t kDeviceNameIndex = 0x1008;  // manufacturer device name, VISIBLE_STRING (optional)
+constexpr uint16_t kProducerHeartbeatIndex = 0x1017;  // producer heartbeat time, u16 ms
 
 // Abort codes (CiA 301, table 22) this code names; others are reported in hex.
 namespace sdo_abort {

@@ -1,6 +1,7 @@
 #include "canopen_board.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "hcl_drivers/transport/endpoint.h"
 
@@ -29,6 +30,10 @@ void CanopenBoard::init(BoardContext& ctx) {
   command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.25);
   requirePositive(ctx.pnh, "command_timeout", command_timeout_);
   stale_timeout_ = optionalDouble(ctx.pnh, "stale_timeout", std::max(0.3, 3.0 / ctx.rate));
+  heartbeat_ms_ = optionalInt(ctx.pnh, "heartbeat_ms", 100);
+  requireInRange(ctx.pnh, "heartbeat_ms", heartbeat_ms_, 0, 10000);
+  heartbeat_timeout_ = optionalDouble(ctx.pnh, "heartbeat_timeout", 3.0 * heartbeat_ms_ / 1000.0 + 1.0 / ctx.rate);
+  requirePositive(ctx.pnh, "heartbeat_timeout", heartbeat_timeout_);
 
   // The board's own parameters first, so a bad one stops the node before the bus is opened.
   try {
@@ -116,10 +121,21 @@ bool CanopenBoard::service() {
       }
       if (need_configure_) {
         readDeviceName();
+        configureHeartbeat();
         configure();
         need_configure_ = false;
       }
+      const double silence = heartbeatSilence();
       ok = exchange();
+      if (silence > 0) {
+        // The node's heartbeat stopped: it is lost (CiA 301) even if a PDO still came. If it
+        // did answer, it may have reset unseen (heartbeat off again): configure it again.
+        if (ok) need_configure_ = true;
+        fail("no heartbeat from node " + std::to_string(node_id_) + " for " + std::to_string(static_cast<int>(silence * 1e3)) +
+             " ms (producer time " + std::to_string(heartbeat_ms_) + " ms)");
+        answering_ = false;
+        ok = false;
+      }
     } catch (const std::exception& e) {
       fail(e.what());
       ok = false;
@@ -157,6 +173,34 @@ void CanopenBoard::readDeviceName() {
   device_name_ = name;
 }
 
+namespace {
+double steadyS() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+void CanopenBoard::configureHeartbeat() {
+  heartbeat_watched_ = false;
+  if (heartbeat_ms_ == 0) return;
+  try {
+    node_->sdoWrite(canopen::kProducerHeartbeatIndex, 0, static_cast<uint32_t>(heartbeat_ms_), 2, sdo_timeout_);
+  } catch (const canopen::SdoError& e) {
+    if (e.abortCode() == 0) throw;  // no answer: the node is gone
+    ROS_WARN("%s: node %d has no producer heartbeat (%s): not watched", name_.c_str(), node_id_, e.what());
+    return;
+  }
+  heartbeat_configured_at_ = steadyS();
+  heartbeat_watched_ = true;
+}
+
+double CanopenBoard::heartbeatSilence() const {
+  if (!heartbeat_watched_) return 0.0;
+  const double hb_age = node_->heartbeatAge();
+  const double since_configured = steadyS() - heartbeat_configured_at_;
+  const double silence = hb_age < 0 ? since_configured : std::min(hb_age, since_configured);
+  return silence > heartbeat_timeout_ ? silence : 0.0;
+}
+
 void CanopenBoard::halt() {
   if (!node_) return;
   answering_ = false;
@@ -180,6 +224,14 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stat.add("SDO aborts", status_copy_.sdo_aborts);
   }
   stat.add("commands refused", refused_.load());
+  stat.add("NMT state (heartbeat)", canopen::toString(node_->heartbeatState()));
+  stat.add("heartbeat producer time [ms]", heartbeat_watched_ ? heartbeat_ms_ : 0);
+  stat.addf("heartbeat age [ms]", "%.0f", 1e3 * node_->heartbeatAge());
+  // Checked here too, on the diagnostics timer: a slow poll must not delay the report.
+  const double silence = heartbeatSilence();
+  if (silence > 0)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::STALE, "no heartbeat from node %d for %.0f ms (producer time %d ms)",
+                  node_id_, 1e3 * silence, heartbeat_ms_);
   stat.add("bus", bus_->url());
   stat.add("bus state", transport::toString(bs.state));
   stat.add("bus error frames", bs.error_frames);

@@ -9,6 +9,12 @@
 //   ~answer_timeout   [s] wait for the requested PDOs (default min(0.02, 0.5 / rate))
 //   ~sdo_timeout      [s] wait for an SDO answer (default 0.05)
 //   ~command_timeout  [s] a command older than this is dropped and the actuator stopped (default 0.25)
+//   ~heartbeat_ms     producer heartbeat time written to the node (0x1017) at configuration
+//                     (default 100, 0 = off, 0..10000); a node that aborts the write has none
+//   ~heartbeat_timeout [s] no heartbeat for this long: the board is reported STALE and its
+//                     commands refused at once, before the PDO staleness (~stale_timeout)
+//                     (default 3 x heartbeat_ms + one poll period: heartbeats are dispatched by the poll;
+//                     about the PDO staleness of a fast board, well before it for a slow one)
 //   ~<pdo>_cob_id     every PDO's COB-ID, defaults from CiA 301 (0x180/0x200/0x280 + node id)
 #pragma once
 
@@ -82,6 +88,14 @@ class CanopenBoard : public Board {
   // The node's device name (0x1008, a string read by segmented SDO at configuration); CiA 301
   // makes it optional, so a node that aborts the read shows why instead.
   void readDeviceName();
+  // Writes 0x1017 (heartbeat_ms_) and starts watching heartbeats from now.
+  void configureHeartbeat();
+  // Seconds without a heartbeat beyond heartbeat_timeout_ (0 when fine or not watched).
+  double heartbeatSilence() const;
+  int heartbeat_ms_ = 100;
+  double heartbeat_timeout_ = 0.3;
+  std::atomic<bool> heartbeat_watched_{false};
+  std::atomic<double> heartbeat_configured_at_{0.0};  // steady clock [s]
   std::string device_name_;
   bool need_start_ = true;
   bool need_configure_ = true;
