@@ -4,7 +4,9 @@ Loop: choose the nearest column (seen by the vision device, else the next config
 position not tried yet), stop `approach` before it facing it, open the hand, creep in,
 close, lift to carry height; once `max_carry` are held or no column is left, drive to the
 build zone, lift to the next floor's height, open, back off; again until nothing is left.
-A failed approach marks that column as tried. Config: ~match2009/{columns, build_zone,
+A failed approach marks that column as tried. A column already lying in one of our scoring
+zones (the table's score_zones that count `column_kind`, /table/score_zones) is never taken
+again: once built, the temple is left alone. Config: ~match2009/{columns, build_zone,
 build_heights, carry_height, approach, creep, max_carry, column_kind, vision_topic}.
 """
 import math
@@ -47,6 +49,9 @@ class Match2009Strategy(MachineStrategy):
         self.world = WorldView(self.param('vision_topic', '/hal/vision/elements'))
         self.tried = []
         self.floor = 0
+        import rospy
+        self.scored_zones = [z['rect'] for z in rospy.get_param('/table/score_zones', [])
+                             if not z.get('kinds') or self.kind in z.get('kinds')]
 
         sm = StateMachine(outcomes=['succeeded', 'aborted', 'preempted'])
         sm.userdata.carried = 0
@@ -87,7 +92,8 @@ class Match2009Strategy(MachineStrategy):
         robot = self.world.pose() or (self.build_zone[0], self.build_zone[1])
         seen = [(x, y) for _, x, y in self.world.elements([self.kind])]
         candidates = [c for c in seen + self.columns
-                      if all(math.hypot(c[0] - t[0], c[1] - t[1]) > 0.05 for t in self.tried)]
+                      if all(math.hypot(c[0] - t[0], c[1] - t[1]) > 0.05 for t in self.tried)
+                      and not self._scored(c)]
         if not candidates:
             return 'build' if ud.carried > 0 else 'none'
         target = min(candidates, key=lambda c: math.hypot(c[0] - robot[0], c[1] - robot[1]))
@@ -95,6 +101,11 @@ class Match2009Strategy(MachineStrategy):
         ud.target = target
         ud.approach = approach_pose(robot, target, float(self.param('approach', 0.25)))
         return 'found'
+
+    def _scored(self, point):
+        """The point lies in one of our scoring zones (with a column radius of margin)."""
+        m = 0.04
+        return any(r[0] - m <= point[0] <= r[2] + m and r[1] - m <= point[1] <= r[3] + m for r in self.scored_zones)
 
     def _count(self, ud):
         ud.carried = ud.carried + 1
