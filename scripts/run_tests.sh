@@ -33,6 +33,11 @@ for f in sorted(glob.glob('build/test_results/**/*.xml', recursive=True)):
         continue
     suites = [root] if root.tag == 'testsuite' else root.iter('testsuite')
     for s in suites:
+        if not list(s.iter('testcase')) and int(s.get('errors', 0) or 0) + int(s.get('failures', 0) or 0):
+            # rostest writes an empty suite with errors="1" when its test node never reported
+            # (did not start, crashed, or ran past its time-limit).
+            failed += 1
+            failures.append((f, '(no test case ran)', 'the test node never reported: crash, start failure or time-limit'))
         for case in s.iter('testcase'):
             total += 1
             bad = case.find('failure')
