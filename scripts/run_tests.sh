@@ -36,6 +36,7 @@ for f in sorted(glob.glob('build/test_results/**/*.xml', recursive=True)):
         if not list(s.iter('testcase')) and int(s.get('errors', 0) or 0) + int(s.get('failures', 0) or 0):
             # rostest writes an empty suite with errors="1" when its test node never reported
             # (did not start, crashed, or ran past its time-limit).
+            total += 1
             failed += 1
             failures.append((f, '(no test case ran)', 'the test node never reported: crash, start failure or time-limit'))
         for case in s.iter('testcase'):
