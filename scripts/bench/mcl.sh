@@ -6,6 +6,12 @@
 # to the run (its defaults do worse). Its 10,000-particle global runs (README.md: 3.2 ms per
 # update) are left out to keep `make bench` short: `rosrun hal_nodes mcl_bench_stock RUN 10000
 # global --range-std 0.03` reproduces them. Wall-clock figures on this machine, shared cores.
+# Then the localization in the whole simulator (the 2009 robot: emulated boards, HCL, HAL) on
+# the fixed route of the mcl_sim_eurobot2009 rostest (two laps, beacon 2 silenced 10 s,
+# ~global_localization, a kidnap), at each simulator seed of MCL_SIM_SEEDS (default 5): errors
+# against /sim/ground_truth at each estimate's stamp, the device's cost per step (sampled from
+# /diagnostics), hal_node CPU (/proc/<pid>/stat over the route; every HAL device of the robot
+# runs in that process, the localization's own share is cost per step x ~48 steps/s).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 data="$root/../shared/bench"
@@ -35,4 +41,17 @@ for run in "run_seed1.csv 0.01" "run_seed2_noisy.csv 0.02"; do
   done
   # Ours with the KLD-adaptive count (the node's default: at most N particles, fewer when certain).
   echo "$1 ours (KLD, max $n): $(rosrun hal_nodes mcl_bench "$file" $n track --kld)"
+done
+
+for seed in ${MCL_SIM_SEEDS:-5}; do
+  figures=$(mktemp)
+  if rostest system_tests mcl_sim_eurobot2009.test seed:="$seed" figures:="$figures" >"$figures.log" 2>&1; then
+    verdict=passed
+    rm -f "$figures.log"
+  else
+    verdict="FAILED (rostest log: $figures.log)"
+  fi
+  echo "simulator seed $seed (mcl_sim_eurobot2009 rostest $verdict):"
+  sed 's/^/  /' "$figures"
+  rm -f "$figures"
 done

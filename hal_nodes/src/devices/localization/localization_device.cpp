@@ -11,7 +11,8 @@
 // Outputs: /mcl/pose (geometry_msgs/PoseWithCovarianceStamped), /mcl/quality
 // (hal_nodes/LocalizationQuality: probability the estimate is right, lost flag), /mcl/particlecloud
 // (geometry_msgs/PoseArray), /mcl/beacon_belts (visualization_msgs/MarkerArray), tf map -> odom
-// (REP-105, from the estimate and /odom's odom -> base_link at the same stamp).
+// (REP-105, from the estimate and /odom's odom -> base_link at the same stamp). Outputs carry the
+// stamp of the newest odometry applied: the time the particles' motion refers to.
 // In: /initialpose (rviz "2D Pose Estimate"); service ~global_localization (std_srvs/Empty).
 //
 // Parameters (besides ~rate; all optional, defaults in brackets):
@@ -413,7 +414,14 @@ class LocalizationDevice : public Device {
         }
       }
       updates_ += steps;
-      if (steps > 0) publish();
+      // The particles stand where the newest applied odometry put them: the estimate is stamped
+      // with that odometry's stamp, not a later measurement's (odometry stalled on a loaded HCL
+      // would otherwise date an old position as new). Nothing new to date: nothing published.
+      const double stamp = have_odom_ ? odom_stamp_ : last_step_;
+      if (steps > 0 && stamp != published_stamp_) {  // != : a replayed bag may restart the clock
+        published_stamp_ = stamp;
+        publish(stamp);
+      }
     }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (steps > 0) {
@@ -468,6 +476,7 @@ class LocalizationDevice : public Device {
           return false;
         }
         odom_pose_ = q;
+        odom_stamp_ = stamp;
         have_odom_ = true;
         if (!use_pairs_) odom_->addPose(0, q);
         return true;
@@ -510,9 +519,9 @@ class LocalizationDevice : public Device {
     ROS_INFO("%s: initial pose (%.3f, %.3f, %.3f) +- %.3f m, %.3f rad", name_.c_str(), p.x, p.y, p.theta, sxy, sth);
   }
 
-  void publish() {
+  void publish(double at) {
     const auto& e = filter_->estimate();
-    const ros::Time stamp(last_step_);
+    const ros::Time stamp(at);
     geometry_msgs::PoseWithCovarianceStamped pose;
     pose.header.stamp = stamp;
     pose.header.frame_id = map_frame_;
@@ -545,8 +554,8 @@ class LocalizationDevice : public Device {
       tf_.sendTransform(t);
     }
 
-    if (last_step_ - last_cloud_ >= cloud_period_) {
-      last_cloud_ = last_step_;
+    if (at - last_cloud_ >= cloud_period_) {
+      last_cloud_ = at;
       if (cloud_pub_.getNumSubscribers() > 0) {
         const auto& s = filter_->particles();
         geometry_msgs::PoseArray cloud;
@@ -611,6 +620,7 @@ class LocalizationDevice : public Device {
   Pose2 odom_pose_;
   bool have_odom_ = false;
   double last_step_ = 0.0, last_cloud_ = -1e300;
+  double odom_stamp_ = 0.0, published_stamp_ = -1e300;  // the applied odometry's stamp; the last published
   unsigned long updates_ = 0, bad_inputs_ = 0;
   double cost_ms_ = 0.0, cost_max_ms_ = 0.0;
 
