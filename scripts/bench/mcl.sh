@@ -8,7 +8,8 @@
 # global --range-std 0.03` reproduces them. Wall-clock figures on this machine, shared cores.
 # Then the localization in the whole simulator (the 2009 robot: emulated boards, HCL, HAL) on
 # the fixed route of the mcl_sim_eurobot2009 rostest (two laps, beacon 2 silenced 10 s,
-# ~global_localization, a kidnap), at each simulator seed of MCL_SIM_SEEDS (default 5): errors
+# ~global_localization, a kidnap), at each simulator seed of MCL_SIM_SEEDS (default 5; e.g.
+# MCL_SIM_SEEDS="5 6 7" for several): errors
 # against /sim/ground_truth at each estimate's stamp, the device's cost per step (sampled from
 # /diagnostics), hal_node CPU (/proc/<pid>/stat over the route; every HAL device of the robot
 # runs in that process, the localization's own share is cost per step x ~48 steps/s).
@@ -45,7 +46,8 @@ done
 
 for seed in ${MCL_SIM_SEEDS:-5}; do
   figures=$(mktemp)
-  if rostest system_tests mcl_sim_eurobot2009.test seed:="$seed" figures:="$figures" >"$figures.log" 2>&1; then
+  # MCL_SIM_CONFIG: another simulation overlay than config/eurobot2009.sim.yaml
+  if rostest system_tests mcl_sim_eurobot2009.test seed:="$seed" figures:="$figures" ${MCL_SIM_CONFIG:+sim_config:="$MCL_SIM_CONFIG"} >"$figures.log" 2>&1; then
     verdict=passed
     rm -f "$figures.log"
   else
