@@ -4,6 +4,7 @@
 // replay with a fixed seed, every MRPT resampling scheme, and the KLD-adaptive count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -85,6 +86,8 @@ struct Rig {
     filter->addSampler(beacons);
   }
 
+  std::vector<double> probability;  // per step fed
+
   // Feeds steps [from, to); returns the position errors.
   std::vector<double> run(const std::vector<Step>& steps, std::size_t from = 0, std::size_t to = SIZE_MAX) {
     std::vector<double> err;
@@ -95,6 +98,7 @@ struct Rig {
       filter->update(s.t);
       const Pose2 e = filter->estimate().pose;
       err.push_back(std::hypot(e.x - s.truth.x, e.y - s.truth.y));
+      probability.push_back(filter->estimate().probability);
     }
     return err;
   }
@@ -158,6 +162,38 @@ TEST(Filter, RecoversFromAKidnapWithoutHelp) {
   EXPECT_GE(rig.filter->resets(), 1u);                // detected by itself
   EXPECT_LT(maxOf(err, 1000, err.size()), 0.05);      // recovered within 3 s
   EXPECT_FALSE(rig.filter->estimate().lost);
+}
+
+// The probability says whether the estimate is within quality_tolerance of the truth: high
+// while tracking a robot driving at 0.3-0.7 m/s and turning (the likelihood ratio it replaced
+// fell to ~0.5 there), low within 0.3 s of a kidnap.
+TEST(Filter, ProbabilityMeansTheEstimateIsRight) {
+  auto steps = makeRun(13, 14.0, 7.0);
+  // Short garbage ranges (the likelihood's floor is tiny there) must not say "wrong" on their own.
+  int garbage = 0;
+  for (std::size_t i = 300; i < 600; i += 100)
+    for (std::size_t k = i; k < i + 10; ++k)
+      if (steps[k].beacon >= 0) {
+        steps[k].range -= 0.4;
+        ++garbage;
+        break;
+      }
+  ASSERT_EQ(garbage, 3);
+  FilterConfig fc;
+  fc.max_particles = 1000;
+  Rig rig(fc);
+  rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
+  const auto err = rig.run(steps);
+  std::size_t right_low = 0, right = 0;
+  for (std::size_t i = 100; i < 700; ++i) {
+    if (err[i] >= fc.quality_tolerance) continue;
+    ++right;
+    right_low += rig.probability[i] < 0.8;
+  }
+  EXPECT_GT(right, 550u);
+  EXPECT_EQ(right_low, 0u) << "probability below 0.8 while the estimate was right";
+  EXPECT_LT(*std::min_element(rig.probability.begin() + 100, rig.probability.begin() + 700), 1.0 + 1e-12);
+  EXPECT_LT(maxOf(rig.probability, 730, 760), 0.2);  // 0.3 s after the kidnap: not right, and says so
 }
 
 TEST(Filter, DegradesGracefullyWithABeaconSilenced) {

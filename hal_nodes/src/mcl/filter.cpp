@@ -29,6 +29,7 @@ Filter::Filter(const FilterConfig& cfg, std::shared_ptr<TableModel> table)
   if (!(cfg_.ess_threshold >= 0.0 && cfg_.ess_threshold <= 1.0)) throw std::invalid_argument("ess_threshold must be in [0, 1]");
   if (!(cfg_.alpha_slow > 0.0 && cfg_.alpha_slow < cfg_.alpha_fast && cfg_.alpha_fast <= 1.0))
     throw std::invalid_argument("need 0 < alpha_slow < alpha_fast <= 1");
+  if (!(cfg_.track_hazard > 0.0 && cfg_.track_hazard < 0.5)) throw std::invalid_argument("track_hazard must be in (0, 0.5)");
   if (!(cfg_.reset_fraction > 0.0 && cfg_.reset_fraction <= 1.0)) throw std::invalid_argument("reset_fraction must be in (0, 1]");
   if (!(cfg_.kld.epsilon > 0.0 && cfg_.kld.bin_xy > 0.0 && cfg_.kld.bin_theta > 0.0))
     throw std::invalid_argument("kld epsilon and bin sizes must be > 0");
@@ -66,6 +67,7 @@ void Filter::setPose(const Pose2& pose, double std_xy, double std_theta) {
   }
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = false;
+  p_track_ = 1.0 - cfg_.track_hazard;  // a pose given by the user: trusted until the sensors disagree
   restartLikelihoodWatch();
   recover_until_ = -1e300;
   estimate_.pose = pose;
@@ -83,6 +85,7 @@ void Filter::setPoseUniform(const Pose2& pose, double half_xy, double half_theta
   }
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = false;
+  p_track_ = 1.0 - cfg_.track_hazard;  // a pose given by the user: trusted until the sensors disagree
   restartLikelihoodWatch();
   recover_until_ = -1e300;
   estimate_.pose = pose;
@@ -118,6 +121,8 @@ void Filter::predictAndUpdate(ParticleSet& set) {
     if (!c->ready(ctx_)) continue;
     c->check(set, ctx_);
     monitored |= c->monitorsLikelihood();
+    double predictive, uninformed;
+    if (c->evidence(&predictive, &uninformed)) weighEvidence(predictive, uninformed);
   }
   table_->check(set, ctx_);
   const double s1 = set.weightSum();
@@ -153,6 +158,17 @@ void Filter::predictAndUpdate(ParticleSet& set) {
   // replays identically whatever else in the process uses it.
   if (set.ESS() < cfg_.ess_threshold)
     mrpt::random::getRandomGenerator().randomize(static_cast<uint32_t>(rng_.next() >> 32));
+}
+
+void Filter::weighEvidence(double predictive, double uninformed) {
+  // Two hypotheses: the cloud tracks the true pose (the measurement's density is the cloud's
+  // predictive density) or it does not (the measurement could be anything: uninformed density).
+  if (!(predictive >= 0.0 && uninformed > 0.0) || !std::isfinite(predictive)) return;
+  const double h = cfg_.track_hazard;
+  const double prior = p_track_ * (1.0 - h) + (1.0 - p_track_) * h;
+  const double num = prior * predictive;
+  const double den = num + (1.0 - prior) * uninformed;
+  p_track_ = den > 0.0 ? num / den : prior;
 }
 
 void Filter::restartLikelihoodWatch() {
@@ -254,13 +270,22 @@ void Filter::computeEstimate() {
   e.ess = set_.ESS() * static_cast<double>(n);
 
   const double var_xy = 0.5 * (e.cov[0] + e.cov[4]);
-  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && e.cov[8] < 0.04) lost_ = false;
-  // Probability of being within quality_tolerance: the cloud's own spread (Rayleigh), times
-  // how well the particles still explain the measurements (w_fast / w_slow).
+  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && e.cov[8] < 0.04) {
+    lost_ = false;
+    p_track_ = 0.5;  // converged: whether on the right pose, the next measurements tell
+  }
+  if (lost_) p_track_ = 0.0;
+  // Probability of being within quality_tolerance of the truth: P(tracking) x the cloud's
+  // weighted mass within quality_tolerance of the estimate (no Gaussian assumption). Not the
+  // likelihood ratio w_fast / w_slow: that one moves with speed and sensor mix, not with error.
   const double tol2 = cfg_.quality_tolerance * cfg_.quality_tolerance;
-  double p = var_xy > 0.0 ? 1.0 - std::exp(-0.5 * tol2 / var_xy) : 1.0;
-  if (monitored_ > cfg_.warmup && w_slow_ > 0.0) p *= std::clamp(w_fast_ / w_slow_, 0.0, 1.0);
-  e.probability = lost_ ? 0.0 : std::clamp(p, 0.0, 1.0);
+  double inside = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = px[i] - mx, dy = py[i] - my;
+    if (dx * dx + dy * dy <= tol2) inside += w[i];
+  }
+  e.tracking = p_track_;
+  e.probability = lost_ ? 0.0 : std::clamp(p_track_ * inside / sw, 0.0, 1.0);
   e.lost = lost_;
 }
 

@@ -13,6 +13,12 @@
 // (likelihood collapse: kidnapped, or a wrong start) or every particle became impossible, the
 // filter declares itself lost and resets from the sensors' proposals (sensor resetting: beacon
 // trilateration), falling back to a uniform spread.
+// Probability (the original's Position.probability, /mcl/quality): P(the cloud tracks the true
+// pose), a two-state Bayes filter fed by each beacon range's predictive density against its
+// density without a pose (CheckingInput::evidence), times the cloud's mass within
+// quality_tolerance of the estimate. w_fast / w_slow only decide "lost": their ratio moves with
+// speed, sensor mix and the intersection weighting, it is no probability (it read ~0.5 while
+// driving with a good estimate and made the driver abort).
 #pragma once
 
 #include <mrpt/bayes/CParticleFilter.h>
@@ -48,6 +54,9 @@ struct FilterConfig {
   double roughen_xy = 0.003;   // [m]
   double roughen_theta = 0.02; // [rad]
   double quality_tolerance = 0.05;  // [m] "right" means within this of the truth
+  // Probability of a change between tracking and not tracking per measurement with evidence
+  // (kidnap, slip): keeps the tracking probability from saturating, so it can fall quickly.
+  double track_hazard = 0.01;
   uint64_t seed = 1;
 };
 
@@ -57,7 +66,10 @@ bool parseResampling(const std::string& name, mrpt::bayes::CParticleFilter::TPar
 struct Estimate {
   Pose2 pose;
   std::array<double, 9> cov{};   // x, y, theta (row-major)
-  double probability = 0.0;      // that the estimate is within quality_tolerance of the truth
+  // That the estimate is within quality_tolerance of the truth: P(the filter tracks the true
+  // pose | the measurements' evidence) x the cloud's mass within quality_tolerance of the estimate.
+  double probability = 0.0;
+  double tracking = 0.0;         // the first factor
   bool lost = true;
   std::size_t particles = 0;
   double ess = 0.0;              // effective sample size (particles)
@@ -101,6 +113,7 @@ class Filter : private ParticleSet::Hooks {
   void afterResampling(ParticleSet& set) override;
 
   bool resetFromSensorsIfPossible();
+  void weighEvidence(double predictive, double uninformed);
   void restartLikelihoodWatch();
   void computeEstimate();
   void clearInputs();
@@ -117,6 +130,7 @@ class Filter : private ParticleSet::Hooks {
   StepContext ctx_;
   Estimate estimate_;
   double w_slow_ = 0.0, w_fast_ = 0.0;
+  double p_track_ = 0.0;          // P(tracking the true pose), a two-state Bayes filter on the evidence
   std::size_t monitored_ = 0;     // monitored measurements since the last (re)start
   bool averages_init_ = false;
   bool lost_ = true;

@@ -20,6 +20,7 @@
 //   ~kld_epsilon [0.02] ~kld_z [2.33] ~kld_bin_xy [0.02 m] ~kld_bin_theta [0.05 rad]
 //   ~resampling [systematic] (multinomial|residual|stratified|systematic)  ~ess_threshold [0.5]
 //   ~alpha_slow [0.01] ~alpha_fast [0.2] ~lost_ratio [0.05] ~reset_fraction [1.0] ~recovery_time [2 s]
+//   ~quality_tolerance [0.05 m] ("right" = within this of the truth) ~track_hazard [0.01] (filter.h)
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
 //   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
@@ -190,6 +191,10 @@ class LocalizationDevice : public Device {
     requireInRange(pnh, "alpha_slow", fc.alpha_slow, 1e-6, 0.5);
     fc.alpha_fast = optionalDouble(pnh, "alpha_fast", fc.alpha_fast);
     requireInRange(pnh, "alpha_fast", fc.alpha_fast, fc.alpha_slow * 1.0001, 1.0);
+    fc.quality_tolerance = optionalDouble(pnh, "quality_tolerance", fc.quality_tolerance);
+    requireInRange(pnh, "quality_tolerance", fc.quality_tolerance, 1e-3, 1.0);
+    fc.track_hazard = optionalDouble(pnh, "track_hazard", fc.track_hazard);
+    requireInRange(pnh, "track_hazard", fc.track_hazard, 1e-6, 0.49);
     fc.lost_ratio = optionalDouble(pnh, "lost_ratio", fc.lost_ratio);
     requireInRange(pnh, "lost_ratio", fc.lost_ratio, 0.0, 1.0);
     fc.reset_fraction = optionalDouble(pnh, "reset_fraction", fc.reset_fraction);
@@ -437,6 +442,7 @@ class LocalizationDevice : public Device {
     std::lock_guard<std::mutex> lk(filter_mutex_);
     const auto& e = filter_->estimate();
     stat.add("probability", e.probability);
+    stat.add("tracking probability (measurement evidence)", e.tracking);
     stat.add("lost", e.lost);
     stat.add("particles", e.particles);
     stat.add("effective sample size", e.ess);

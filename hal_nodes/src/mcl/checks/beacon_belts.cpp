@@ -23,6 +23,12 @@ BeaconBelts::BeaconBelts(const BeaconBeltsConfig& cfg, std::shared_ptr<const Tab
     throw std::invalid_argument("beacons: reliability must be in [0, 1]");
   if (!table_) throw std::invalid_argument("beacons: a table model is needed");
   latest_.resize(cfg_.beacons.size());
+  for (const auto& b : cfg_.beacons) {
+    double far = 0.0;
+    for (double cx : {0.0, table_->length()})
+      for (double cy : {0.0, table_->width()}) far = std::max(far, std::hypot(cx - b[0], cy - b[1]));
+    span_.push_back(std::max(far, 0.1));
+  }
   learned_std_ = cfg_.range_std;
   innov_sq_ = cfg_.range_std * cfg_.range_std;
 }
@@ -80,12 +86,14 @@ void BeaconBelts::check(ParticleSet& set, const StepContext& ctx) {
   double* w = set.w.data();
   const double rel = reliability();
   double sw = 0.0, swd = 0.0, swd2 = 0.0;  // predicted range statistics (innovation learning)
+  double swl = 0.0;                        // prior-weighted base likelihood (evidence)
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = px[i] - bx, dy = py[i] - by;
     const double d = std::sqrt(dx * dx + dy * dy);
     const double e = r - d;
     // Reflections only make a range longer: the outlier term lives on the long side.
     double lik = a * std::exp(c * e * e) + (e > 0.0 && e < span ? u : floor);
+    swl += w[i] * lik;  // before the intersection boost: evidence must not depend on the quality
     if (n_others > 0) {
       double sum = 0.0, prod = 1.0;
       for (int k = 0; k < n_others; ++k) {
@@ -103,6 +111,8 @@ void BeaconBelts::check(ParticleSet& set, const StepContext& ctx) {
     swd2 += wi * d * d;
     w[i] = wi * (rel == 1.0 ? lik : std::pow(lik, rel));
   }
+  evidence_pred_ = sw > 0.0 ? swl / sw : -1.0;
+  evidence_uninformed_ = 1.0 / span_[id];
 
   // Learn the range noise from innovations while tracking well: innovation^2 = noise^2 +
   // spread of the predicted range; gross outliers (beyond 4 sigma) do not count.
@@ -118,6 +128,16 @@ void BeaconBelts::check(ParticleSet& set, const StepContext& ctx) {
       learned_std_ = std::clamp(std::sqrt(std::max(innov_sq_, 0.0)), cfg_.range_std / 3.0, cfg_.range_std * 3.0);
     }
   }
+}
+
+bool BeaconBelts::evidence(double* predictive, double* uninformed) const {
+  if (evidence_pred_ < 0.0) return false;
+  // Even when tracking, a range is sometimes garbage whatever the pose (the model's floor for
+  // short ranges is deliberately tiny): one such range must not say "lost" on its own.
+  const double o = cfg_.outlier_probability;
+  *predictive = (1.0 - o) * evidence_pred_ + o * evidence_uninformed_;
+  *uninformed = evidence_uninformed_;
+  return true;
 }
 
 int BeaconBelts::intersections(int i, int j, double ri, double rj, double out[2][2]) const {

@@ -3,7 +3,8 @@ Handler: stop, then (spin: true) turn slowly on the spot so the beacons and the 
 are seen from every side, while watching /mcl/quality; resume once it is trusted again,
 else the configured decision after `max_wait`.
 
-Config (~triggers/localization_lost): min_probability, debounce (default 0.5 s), holdoff,
+Config (~triggers/localization_lost): min_probability (default 0.5, the driver's ~min_probability:
+the robot configs share one value, the anchor lost_probability), debounce (default 0.5 s), holdoff,
 spin, max_wait [s], then.
 """
 from smart_brain.actions.stop import StopState
@@ -39,7 +40,7 @@ def make(values):
     from hal_nodes.msg import LocalizationQuality
     from smart_brain.actions.rotate_by import rotate_by
     cfg = Config(KIND, values)
-    min_probability = cfg.get('min_probability', 0.3)
+    min_probability = cfg.get('min_probability', 0.5)
     debounce = cfg.get('debounce', 0.5)
     holdoff = cfg.get('holdoff', 2.0)
     spin = cfg.get('spin', True, bool)

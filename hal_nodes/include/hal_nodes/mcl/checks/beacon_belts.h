@@ -63,6 +63,7 @@ class BeaconBelts : public CheckingInput, public PoseSampler {
   bool ready(const StepContext&) const override { return pending_ >= 0; }
   void check(ParticleSet& set, const StepContext& ctx) override;
   bool monitorsLikelihood() const override { return true; }
+  bool evidence(double* predictive, double* uninformed) const override;
   void clear() override { pending_ = -1; }
 
   // ---- PoseSampler: trilateration from the recent ranges ----
@@ -81,6 +82,10 @@ class BeaconBelts : public CheckingInput, public PoseSampler {
   std::vector<Range> latest_;
   int pending_ = -1;        // beacon id of the measurement to apply, -1: none
   double pending_sigma_ = 0.0;
+  // evidence of the last applied range: predictive density, density without a pose (1 / the
+  // span of the beacon's distances over the table)
+  double evidence_pred_ = -1.0, evidence_uninformed_ = 0.0;
+  std::vector<double> span_;  // per beacon: farthest table corner [m]
   unsigned long rejected_ = 0;
   // innovation statistics for range_std_auto
   double learned_std_ = 0.0;
