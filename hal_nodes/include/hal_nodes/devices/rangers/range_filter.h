@@ -4,11 +4,14 @@
 //     firmware reports garbage) are dropped and counted; they never reach the output.
 //     +inf or a reading at/above the maximum range means "no echo": it is kept, as +inf
 //     (REP-117), because "nothing there" is information too.
-//  2. Peaks: the median of the last `window` accepted readings. A lone spike (a cross-talk
-//     echo, one missed echo) is outvoted; a real change passes after window/2 + 1 readings.
-//  3. Noise: an exponential moving average of the median with weight `smoothing` for the
-//     newest value. It restarts at the median when the median jumps by more than
-//     `step` (a new obstacle must not be delayed by the smoothing) or to/from "no echo".
+//  2. Peaks: a reading within `step` of the previous one, or of the line through the previous
+//     two (a range sweeping along a wall while the robot turns), continues them and passes
+//     unchanged and undelayed. Any other reading is a jump: the median of the last `window`
+//     readings replaces it, so a lone spike (a cross-talk echo, one missed echo) is outvoted
+//     and a real jump passes once the next reading continues it (or after window/2 + 1).
+//  3. Noise: an exponential moving average of stage 2 with weight `smoothing` for the
+//     newest value. It restarts at that value when it moves by more than `step` (a new
+//     obstacle must not be delayed by the smoothing) or to/from "no echo".
 #pragma once
 
 #include <cstddef>
