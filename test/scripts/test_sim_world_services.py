@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The simulator's interface (launch/sim_world_services.test): /clock at the real-time factor,
-ground truth, markers, elements, match and score, and the services to teleport the robot,
-place the opponent, flip switches and inject faults (now, scripted, and from ~faults)."""
+ground truth, markers (our robot's outline among them), elements, match and score, and the
+services to teleport the robot, place the opponent, flip switches and inject faults (now,
+scripted, and from ~faults)."""
 import math
 import os
 import signal
@@ -107,6 +108,17 @@ class SimServicesTest(unittest.TestCase):
         for want in ('table', 'borders', 'beacons', 'opponent', 'elements', 'start_zones', 'score_zones'):
             self.assertIn(want, ns)
         self.assertEqual(sum(1 for m in markers.markers if m.ns == 'beacons'), 3)
+        # Our robot's outline (no footprint configured: 32 vertices on the radius) at its true
+        # pose, closed; the robot has not moved yet.
+        outline = [m for m in markers.markers if m.ns == 'footprint']
+        self.assertEqual(len(outline), 1)
+        pts = outline[0].points
+        self.assertEqual(len(pts), 33)
+        self.assertEqual((pts[0].x, pts[0].y), (pts[-1].x, pts[-1].y))
+        truth = self.truth.get().pose.pose.position
+        radius = rospy.get_param('/sim/world/robot/radius')
+        for p in pts:
+            self.assertAlmostEqual(math.hypot(p.x - truth.x, p.y - truth.y), radius, delta=1e-6)
         elements = self.elements.get()
         self.assertEqual(len(elements.elements), 12)
         self.assertTrue(all(e.kind.startswith('column') for e in elements.elements))

@@ -4,6 +4,8 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "robot_sim/world/footprint.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -197,6 +199,23 @@ RobotConfig parseRobot(const Node& n) {
   RobotConfig r;
   r.start = n.pose("start", r.start);
   r.radius = n.positive("radius", r.radius);
+  if (n.has("footprint")) {
+    const XmlRpcValue& f = n.at("footprint");
+    const std::string form = "must be a list of at least 3 vertices [x, y] in base_link, in order around the outline";
+    if (f.getType() != XmlRpcValue::TypeArray || f.size() < 3) n.fail("footprint", form);
+    for (int i = 0; i < f.size(); ++i) {
+      XmlRpcValue& p = const_cast<XmlRpcValue&>(f)[i];
+      double x, y;
+      if (p.getType() != XmlRpcValue::TypeArray || p.size() != 2 || !Node::toDouble(p[0], x) || !Node::toDouble(p[1], y))
+        n.fail("footprint", form);
+      r.footprint.push_back({x, y});
+    }
+    try {
+      Footprint check(r.footprint);
+    } catch (const ConfigError& e) {
+      n.fail("footprint", std::string(e.what()).substr(std::string("footprint: ").size()));
+    }
+  }
   r.wheel_radius = n.positive("wheel_radius", r.wheel_radius);
   r.wheel_base = n.positive("wheel_base", r.wheel_base);
   for (const auto& [name, m] : n.entries("motors")) {

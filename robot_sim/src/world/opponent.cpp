@@ -29,7 +29,7 @@ void Opponent::nextTarget(Rng& rng) {
   blocked_for_ = 0.0;
 }
 
-void Opponent::step(double dt, const Circle& ours, Rng& rng) {
+void Opponent::step(double dt, const std::vector<Point2D>& ours, Rng& rng) {
   v_ = w_ = 0.0;
   if (hold_ || config_.mode == "static") return;
   if (pause_left_ > 0.0) {
@@ -51,7 +51,8 @@ void Opponent::step(double dt, const Circle& ours, Rng& rng) {
   Pose2D next = integrateTwist(pose_, v_, w_, dt);
   const Circle me{next.x, next.y, config_.radius};
   const Circle now{pose_.x, pose_.y, config_.radius};
-  const bool into_us = circleClearance(me, ours) < 0.0 && circleClearance(me, ours) < circleClearance(now, ours);
+  const double gap_next = circleContact(ours, me).clearance;
+  const bool into_us = gap_next < 0.0 && gap_next < circleContact(ours, now).clearance;
   const bool into_border = table_.borderClearance(next.x, next.y, config_.radius) < 0.0 &&
                            table_.borderClearance(next.x, next.y, config_.radius) <
                                table_.borderClearance(pose_.x, pose_.y, config_.radius);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "robot_sim/world/footprint.h"
+
 namespace robot_sim {
 
 WorldConfig loadWorldConfig(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
@@ -137,6 +139,19 @@ visualization_msgs::MarkerArray worldMarkers(const WorldConfig& c, const WorldSn
       out.markers.push_back(m);
     }
   }
+  // Our robot's outline at its true pose: the collision shape, which the URDF's chassis only
+  // approximates when sim/world/robot/footprint is configured.
+  Marker outline = marker("footprint", 0, Marker::LINE_STRIP, stamp, 0.0, 0.0, 0.0);
+  outline.scale.x = 0.006;
+  for (const Point2D& p : robotFootprint(c.robot).placed(s.robot)) {
+    geometry_msgs::Point q;
+    q.x = p.x;
+    q.y = p.y;
+    q.z = 0.01;
+    outline.points.push_back(q);
+  }
+  outline.points.push_back(outline.points.front());
+  out.markers.push_back(outline);
   if (s.opponent_radius > 0.0) {
     Marker o = marker("opponent", 0, Marker::CYLINDER, stamp, 0.8, 0.2, 0.8, 0.9);
     o.pose.position.x = s.opponent.x;

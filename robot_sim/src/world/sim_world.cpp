@@ -21,6 +21,7 @@ SimWorld::SimWorld(const WorldConfig& config, unsigned seed)
     : config_(config),
       seed_(seed),
       table_(config.table.length, config.table.width),
+      footprint_(robotFootprint(config.robot)),
       pose_(config.robot.start),
       elements_(config.table.elements),
       opponent_(config.opponent, table_),
@@ -155,7 +156,7 @@ bool SimWorld::switchClosed(const std::string& name) const {
   if (s.type == "manual") return manual_switches_.at(name);
   if (s.type == "bumper") {
     if (!contact_) return false;
-    const double rel = normalizeAngle(contact_direction_ - pose_.theta - s.angle);
+    const double rel = normalizeAngle(contact_angle_ - s.angle);
     return std::abs(rel) <= 0.5 * s.span;
   }
   if (s.type == "limit") {
@@ -189,7 +190,7 @@ WorldSnapshot SimWorld::snapshot() const {
   WorldSnapshot s;
   s.time = time_;
   s.robot = pose_;
-  s.robot_radius = config_.robot.radius;
+  s.robot_radius = footprint_.boundingRadius();
   s.opponent = opponent_.pose();
   s.opponent_radius = config_.opponent.enabled ? opponent_.radius() : 0.0;
   s.elements = elements_;
@@ -234,7 +235,7 @@ void SimWorld::step() {
   for (auto& kv : steppers_) stepStepper(config_.robot.steppers.at(kv.first), kv.second, dt);
   stepRobot(dt);
   if (config_.opponent.enabled) {
-    opponent_.step(dt, Circle{pose_.x, pose_.y, config_.robot.radius}, opponent_rng_);
+    opponent_.step(dt, footprint_.placed(pose_), opponent_rng_);
   }
   stepElements(dt);
   beacons_.step(time_, pose_, beacon_rng_);
@@ -263,16 +264,15 @@ void SimWorld::stepRobot(double dt) {
   wheelsToTwist(left_->ground_speed, right_->ground_speed, rc.wheel_base, v, w);
   Pose2D next = integrateTwist(pose_, v, w, dt);
 
-  // Collisions: a move that pushes further into a border or the opponent does not happen;
-  // the drive wheels stall (the robot stops) and the bumper facing the obstacle closes.
-  double dir_border = 0.0;
-  const double border_now = table_.borderClearance(pose_.x, pose_.y, rc.radius, &dir_border);
-  const double border_next = table_.borderClearance(next.x, next.y, rc.radius);
+  // Collisions of the outline: a move that pushes further into a border or the opponent does
+  // not happen; the drive wheels stall (the robot stops) and the bumper at the contact closes.
+  const std::vector<Point2D> outline_now = footprint_.placed(pose_), outline_next = footprint_.placed(next);
+  const double border_now = borderContact(outline_now, table_.length(), table_.width()).clearance;
+  const double border_next = borderContact(outline_next, table_.length(), table_.width()).clearance;
   double opp_now = std::numeric_limits<double>::infinity(), opp_next = opp_now;
-  const Circle opp = opponent_.outline();
   if (config_.opponent.enabled) {
-    opp_now = circleClearance(Circle{pose_.x, pose_.y, rc.radius}, opp);
-    opp_next = circleClearance(Circle{next.x, next.y, rc.radius}, opp);
+    opp_now = circleContact(outline_now, opponent_.outline()).clearance;
+    opp_next = circleContact(outline_next, opponent_.outline()).clearance;
   }
   const bool blocked = (border_next < 0.0 && border_next < border_now - 1e-12) ||
                        (opp_next < 0.0 && opp_next < opp_now - 1e-12);
@@ -297,20 +297,16 @@ void SimWorld::stepRobot(double dt) {
   pose_ = next;
   v_ = v;
   w_ = w;
-  // Contact for the bumpers: the nearest obstacle within the margin.
-  const double border_c = table_.borderClearance(pose_.x, pose_.y, rc.radius, &dir_border);
-  contact_ = false;
-  if (border_c <= kContactMargin) {
-    contact_ = true;
-    contact_direction_ = dir_border;
-  }
+  // Contact for the bumpers: the nearest obstacle within the margin, located on the outline.
+  const std::vector<Point2D> outline = blocked ? outline_now : outline_next;
+  Contact touch = borderContact(outline, table_.length(), table_.width());
   if (config_.opponent.enabled) {
-    const double oc = circleClearance(Circle{pose_.x, pose_.y, rc.radius}, opponent_.outline());
-    if (oc <= kContactMargin && (!contact_ || oc < border_c)) {
-      contact_ = true;
-      contact_direction_ = std::atan2(opp.y - pose_.y, opp.x - pose_.x);
-    }
+    const Contact o = circleContact(outline, opponent_.outline());
+    if (o.clearance < touch.clearance) touch = o;
   }
+  contact_ = touch.clearance <= kContactMargin;
+  if (contact_)
+    contact_angle_ = normalizeAngle(std::atan2(touch.point.y - pose_.y, touch.point.x - pose_.x) - pose_.theta);
 }
 
 // A gripper (the 2009 hand) takes the nearest matching element at its mouth when its fingers
@@ -379,17 +375,25 @@ void SimWorld::stepElements(double dt) {
       }
     }
   }
-  // Carried elements ride along; loose ones are pushed by both robots and stay on the table.
-  const Circle ours{pose_.x, pose_.y, config_.robot.radius};
+  // Carried elements ride along; loose ones are pushed out of our outline (along its normal at
+  // the contact) and of the opponent's circle, and stay on the table.
+  const std::vector<Point2D> ours = footprint_.placed(pose_);
+  const double reach = footprint_.boundingRadius();
   for (auto& e : elements_) {
     if (e.carried) {
       e.pose.x = pose_.x;
       e.pose.y = pose_.y;
       continue;
     }
-    const Circle pushers[2] = {ours, opponent_.outline()};
-    for (int i = 0; i < (config_.opponent.enabled ? 2 : 1); ++i) {
-      const Circle& pusher = pushers[i];
+    if (std::hypot(e.pose.x - pose_.x, e.pose.y - pose_.y) < reach + e.radius) {
+      Circle c{e.pose.x, e.pose.y, e.radius};
+      if (pushOut(ours, c)) {
+        e.pose.x = c.x;
+        e.pose.y = c.y;
+      }
+    }
+    if (config_.opponent.enabled) {
+      const Circle pusher = opponent_.outline();
       const double dx = e.pose.x - pusher.x, dy = e.pose.y - pusher.y;
       const double d = std::hypot(dx, dy);
       const double need = pusher.r + e.radius;
@@ -500,7 +504,7 @@ bool SimWorld::applyFault(const std::string& kind, const std::string& target, bo
     if (active) {
       // The opponent steps into our path, facing us, and stays there until the fault ends.
       const double gap = magnitude > 0.0 ? magnitude : 0.1;
-      const double d = config_.robot.radius + opponent_.radius() + gap;
+      const double d = footprint_.reach(0.0) + opponent_.radius() + gap;
       Pose2D p{pose_.x + d * std::cos(pose_.theta), pose_.y + d * std::sin(pose_.theta),
                normalizeAngle(pose_.theta + M_PI)};
       const double r = opponent_.radius();

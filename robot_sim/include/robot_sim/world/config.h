@@ -79,7 +79,8 @@ struct RangerConfig {
 
 struct SwitchConfig {
   std::string type = "manual";  // bumper | limit | manual | element
-  // bumper: closes when an obstacle touches the outline within +-span/2 of angle
+  // bumper: closes when an obstacle touches the outline at a point whose direction from
+  // base_link's origin is within +-span/2 of angle
   double angle = 0.0;
   double span = 1.0;
   // limit: closes when the actuator (stepper or servo) is at or beyond `at` in `direction`
@@ -126,7 +127,10 @@ struct SlipConfig {
 
 struct RobotConfig {
   Pose2D start{0.25, 0.25, 0.0};
-  double radius = 0.15;        // collision outline [m]
+  double radius = 0.15;        // the outline's radius when no footprint is given [m]
+  // The outline in base_link: vertices [x, y] in order around it; empty: a regular 32-gon with
+  // its vertices on `radius` (the URDF's chassis cylinder).
+  std::vector<Point2D> footprint;
   double wheel_radius = 0.035;
   double wheel_base = 0.25;
   std::map<std::string, MotorConfig> motors;

@@ -2,7 +2,10 @@
 // random points (random walk), pausing at each; it waits while our robot is in the way.
 #pragma once
 
+#include <vector>
+
 #include "robot_sim/world/config.h"
+#include "robot_sim/world/footprint.h"
 #include "robot_sim/world/random.h"
 #include "robot_sim/world/table_geometry.h"
 
@@ -12,8 +15,8 @@ class Opponent {
  public:
   Opponent(const OpponentConfig& config, const TableGeometry& table);
 
-  // One step; `ours` is our robot's outline (the opponent never drives into it).
-  void step(double dt, const Circle& ours, Rng& rng);
+  // One step; `ours` is our robot's outline in map (the opponent never drives into it).
+  void step(double dt, const std::vector<Point2D>& ours, Rng& rng);
 
   const Pose2D& pose() const { return pose_; }
   double v() const { return v_; }

@@ -19,6 +19,7 @@
 #include "robot_sim/world/actuators.h"
 #include "robot_sim/world/beacon_model.h"
 #include "robot_sim/world/config.h"
+#include "robot_sim/world/footprint.h"
 #include "robot_sim/world/motor_model.h"
 #include "robot_sim/world/opponent.h"
 #include "robot_sim/world/random.h"
@@ -66,6 +67,7 @@ class SimWorld : public World {
   void step();                  // advances one dt
   double dt() const { return config_.dt; }
   const WorldConfig& config() const { return config_; }
+  const Footprint& footprint() const { return footprint_; }  // our outline in base_link
 
   // Motor commands applied exactly at simulated time `at` (a scripted, reproducible drive).
   void scheduleMotorCommand(double at, const std::string& motor, double fraction);
@@ -127,6 +129,7 @@ class SimWorld : public World {
   const unsigned seed_;
   mutable std::mutex mutex_;
   TableGeometry table_;
+  Footprint footprint_;
   double time_ = 0.0;
   long steps_ = 0;
   Pose2D pose_;
@@ -154,7 +157,7 @@ class SimWorld : public World {
   double match_start_ = 0.0;
   int final_score_ = -1;
   bool contact_ = false;
-  double contact_direction_ = 0.0;  // map frame, towards the obstacle
+  double contact_angle_ = 0.0;  // base_link: direction of the contact point on the outline
 };
 
 }  // namespace robot_sim
