@@ -137,10 +137,31 @@ class HalSimTest(unittest.TestCase):
         t.linear.x, t.angular.z = v, w
         self.cmd.publish(t)
 
-    def straight(self, dist, speed=0.35):
+    def truth_pose(self):
+        p = self.truth.get().pose.pose
+        return '(%.3f, %.3f, %.2f)' % (p.position.x, p.position.y, yaw_of(p.orientation))
+
+    def odom_yaw(self):
+        return yaw_of(self.odom.get().pose.pose.orientation)
+
+    def settle(self, timeout=2.0):
+        """Stop and wait (bounded) until the odometry says the robot stands still: the motors
+        lag the command (the next leg starts from rest, a turn does not coast into it)."""
+        self.drive(0.0, 0.0)
+        t0 = time.monotonic()
+        rospy.sleep(0.1)
+        still = wait_for(lambda: abs(self.odom.get().twist.twist.linear.x) < 0.005 and
+                         abs(self.odom.get().twist.twist.angular.z) < 0.02, timeout, 0.02)
+        if not still:
+            print('settle: the robot did not stand still within %.1f s' % timeout)
+        return time.monotonic() - t0
+
+    def straight(self, dist, heading, speed=0.35):
+        """Drive dist [m] holding the absolute odometry heading [rad] of the route's leg."""
+        t_leg = time.monotonic()
         o0 = self.odom.get().pose.pose.position
-        th0 = yaw_of(self.odom.get().pose.pose.orientation)
         v = 0.0
+        done = 0.0
         deadline = time.monotonic() + 20.0  # a leg that never ends fails the route, not the test run
         while not rospy.is_shutdown() and time.monotonic() < deadline:
             o = self.odom.get().pose.pose
@@ -149,22 +170,31 @@ class HalSimTest(unittest.TestCase):
                 break
             target = min(speed, max(0.12, 1.5 * (dist - done)))
             v = min(target, v + 0.02)  # ~1 m/s^2 at 50 Hz: gentle, little slip
-            self.drive(v, 2.0 * wrap(th0 - yaw_of(o.orientation)))
+            self.drive(v, 2.0 * wrap(heading - yaw_of(o.orientation)))
             rospy.sleep(0.02)
-        self.drive(0.0, 0.0)
-        rospy.sleep(0.5)
+        settled = self.settle()
+        print('leg %.2f m: %.1f s wall (%.1f s to stand still), %.3f m by odometry, truth %s' %
+              (dist, time.monotonic() - t_leg, settled, done, self.truth_pose()))
 
-    def turn(self, angle):
-        th0 = yaw_of(self.odom.get().pose.pose.orientation)
-        deadline = time.monotonic() + 15.0
-        while not rospy.is_shutdown() and time.monotonic() < deadline:
-            err = wrap(th0 + angle - yaw_of(self.odom.get().pose.pose.orientation))
-            if abs(err) < 0.02:
+    def turn(self, heading):
+        """Turn in place to the absolute odometry heading [rad]; the motors lag, so the
+        robot coasts past the point where the command stops: correct until it stands at it."""
+        t_leg = time.monotonic()
+        settled = 0.0
+        for _ in range(3):
+            deadline = time.monotonic() + 15.0
+            while not rospy.is_shutdown() and time.monotonic() < deadline:
+                err = wrap(heading - self.odom_yaw())
+                coast = 0.12 * self.odom.get().twist.twist.angular.z  # [rad] turned after the stop command
+                if abs(err) < 0.02 or abs(err - coast) < 0.02 or (err - coast) * err < 0:
+                    break
+                self.drive(0.0, max(-1.5, min(1.5, 2.0 * err + math.copysign(0.6, err))))
+                rospy.sleep(0.02)
+            settled += self.settle()
+            if abs(wrap(heading - self.odom_yaw())) < 0.03:
                 break
-            self.drive(0.0, max(-1.5, min(1.5, 2.0 * err + math.copysign(0.6, err))))
-            rospy.sleep(0.02)
-        self.drive(0.0, 0.0)
-        rospy.sleep(0.5)
+        print('turn to %.2f rad: %.1f s wall (%.1f s to stand still), odometry %.3f rad, truth %s' %
+              (heading, time.monotonic() - t_leg, settled, self.odom_yaw(), self.truth_pose()))
 
     def test_1_odometry_over_a_10m_route(self):
         self.assertIsNotNone(self.odom.get(), 'no /odom from the HAL')
@@ -179,10 +209,14 @@ class HalSimTest(unittest.TestCase):
                 truth_path[0] += math.hypot(p.x - last[0][0], p.y - last[0][1])
             last[0] = (p.x, p.y)
         sub = rospy.Subscriber('/sim/ground_truth', Odometry, on_truth, queue_size=100)
+        t_route = time.monotonic()
+        heading = self.odom_yaw()
         for _ in range(2):
             for leg in (1.8, 0.9, 1.8, 0.9):
-                self.straight(leg)
-                self.turn(-math.pi / 2)
+                self.straight(leg, heading)
+                heading = wrap(heading - math.pi / 2)
+                self.turn(heading)
+        print('route: %.1f s wall' % (time.monotonic() - t_route))
         sub.unregister()
         rospy.sleep(0.5)
         est = self.odom_in_map()
