@@ -94,7 +94,9 @@ TEST(RangeFilter, SweepAlongAWallIsNotDelayed) {
   for (double r : sweep) {
     const double out = *f.add(r, kMin, kMax);
     EXPECT_LE(std::abs(out - r), std::max(1e-12, r - previous)) << "reading " << r;
-    if (r - previous > 0.10) EXPECT_NEAR(out, r, 1e-12) << "reading " << r;
+    if (r - previous > 0.10) {
+      EXPECT_NEAR(out, r, 1e-12) << "reading " << r;
+    }
     previous = r;
   }
 }
