@@ -20,7 +20,7 @@
 //   ~kld_epsilon [0.02] ~kld_z [2.33] ~kld_bin_xy [0.02 m] ~kld_bin_theta [0.05 rad]
 //   ~resampling [systematic] (multinomial|residual|stratified|systematic)  ~ess_threshold [0.5]
 //   ~alpha_slow [0.01] ~alpha_fast [0.2] ~lost_ratio [0.05] ~reset_fraction [1.0] ~recovery_time [2 s]
-//   ~quality_tolerance [0.05 m] ("right" = within this of the truth) ~track_hazard [0.01] (filter.h)
+//   ~quality_tolerance [0.05 m] ("right" = within this of the truth) ~track_hazard [1e-4] (filter.h)
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
 //   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
