@@ -29,12 +29,8 @@ double TableGeometry::rayCast(double x, double y, double a, double max_range, co
   return best <= max_range ? best : inf;
 }
 
-double TableGeometry::borderClearance(double x, double y, double r, double* direction) const {
-  const double d[4] = {x, length_ - x, y, width_ - y};
-  const double dirs[4] = {M_PI, 0.0, -M_PI / 2, M_PI / 2};
-  const int i = static_cast<int>(std::min_element(d, d + 4) - d);
-  if (direction) *direction = dirs[i];
-  return d[i] - r;
+double TableGeometry::borderClearance(double x, double y, double r) const {
+  return std::min({x, length_ - x, y, width_ - y}) - r;
 }
 
 }  // namespace robot_sim

@@ -24,17 +24,11 @@ class TableGeometry {
   // when nothing is hit within max_range. A ray starting outside the table sees nothing.
   double rayCast(double x, double y, double a, double max_range, const std::vector<Circle>& circles) const;
 
-  // Free distance between a circle of radius r at (x, y) and the borders (negative: overlap),
-  // and the direction from the centre to the nearest border point [rad, map frame].
-  double borderClearance(double x, double y, double r, double* direction = nullptr) const;
+  // Free distance between a circle of radius r at (x, y) and the borders (negative: overlap).
+  double borderClearance(double x, double y, double r) const;
 
  private:
   double length_, width_;
 };
-
-// Free distance between two circles (negative: overlap).
-inline double circleClearance(const Circle& a, const Circle& b) {
-  return std::hypot(a.x - b.x, a.y - b.y) - a.r - b.r;
-}
 
 }  // namespace robot_sim
