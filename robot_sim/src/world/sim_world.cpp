@@ -234,10 +234,11 @@ void SimWorld::step() {
   for (auto& kv : servos_) stepServo(config_.robot.servos.at(kv.first), kv.second, dt);
   for (auto& kv : steppers_) stepStepper(config_.robot.steppers.at(kv.first), kv.second, dt);
   stepRobot(dt);
+  const std::vector<Point2D> ours = footprint_.placed(pose_);  // our outline after this step
   if (config_.opponent.enabled) {
-    opponent_.step(dt, footprint_.placed(pose_), opponent_rng_);
+    opponent_.step(dt, ours, opponent_rng_);
   }
-  stepElements(dt);
+  stepElements(dt, ours);
   beacons_.step(time_, pose_, beacon_rng_);
   stepMatch();
 }
@@ -348,7 +349,7 @@ void SimWorld::stepGripper(Collector& c) {
   }
 }
 
-void SimWorld::stepElements(double dt) {
+void SimWorld::stepElements(double dt, const std::vector<Point2D>& ours) {
   // Collectors swallow matching elements at their mouth while their motor runs forward and
   // spit one out ahead every 0.25 s while it runs backward.
   for (auto& kv : collectors_) {
@@ -377,7 +378,6 @@ void SimWorld::stepElements(double dt) {
   }
   // Carried elements ride along; loose ones are pushed out of our outline (along its normal at
   // the contact) and of the opponent's circle, and stay on the table.
-  const std::vector<Point2D> ours = footprint_.placed(pose_);
   const double reach = footprint_.boundingRadius();
   for (auto& e : elements_) {
     if (e.carried) {

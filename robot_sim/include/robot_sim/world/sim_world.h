@@ -115,7 +115,7 @@ class SimWorld : public World {
   void stepGripper(Collector& c);
 
   void stepRobot(double dt);
-  void stepElements(double dt);
+  void stepElements(double dt, const std::vector<Point2D>& ours);  // ours: our outline in map
   void stepMatch();
   void applyScheduled();
   int scoreNow() const;
