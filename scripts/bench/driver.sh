@@ -1,18 +1,40 @@
 #!/usr/bin/env bash
-# Driver benchmark: 20 fixed goto goals chained across the table with the product's Autopilot,
-# limiter and the 2009 robot's curves and limits at 50 Hz: mean time to goal, final position
-# and heading error, overshoot, and the cancel -> wheels-stopped time (p50/p99).
-# Runs on the KINEMATIC MODEL (hal_nodes/driver/kinematic_model.h: one period of command delay
-# and a first-order motor lag; the 2009 simulator's motor time constant is 0.06 s), and says
-# so in its output: the full simulated stack (simulator + CAN emulators + HCL + HAL + MCL) was
-# not available to the driver area when this was written.
-# Run from the repo root with the workspace sourced. Prints figures, exits 0.
+# Driver benchmark (issue 8): 20 fixed goto goals chained across the table on the 2009 robot,
+# mean time to goal, final position and heading error, overshoot, and the cancel -> wheels
+# stopped time (p50/p99).
+# 1. In the simulator (scripts/bench/driver_sim.launch: simulator, CAN emulators, HCL, HAL with
+#    the localization and the driver; empty table, no opponent), measured against ground truth
+#    by scripts/bench/driver_sim_bench.py on a private ROS master. About 4 minutes.
+# 2. The same goals on the driver's kinematic model (hal_nodes/driver/kinematic_model.h: the
+#    Autopilot and limiter alone, perfect localization): what the control curves do by themselves.
+# Run from the repo root with the workspace sourced. Prints figures; exits 1 if the simulated
+# run could not start.
 set -uo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+port=11497   # private master for this bench (driver area)
+export ROS_MASTER_URI=http://127.0.0.1:$port
+log=$(mktemp -d /tmp/bench_driver.XXXX)
+export ROS_LOG_DIR=$log
+roslaunch -p $port "$root/scripts/bench/driver_sim.launch" >"$log/launch.log" 2>&1 &
+launch=$!
+cleanup() { kill -INT "$launch" 2>/dev/null; wait "$launch" 2>/dev/null; rm -rf "$log"; }
+trap cleanup EXIT
+for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
+echo "-- simulator (2009 robot, whole stack):"
+status=0
+if ! python3 "$root/scripts/bench/driver_sim_bench.py"; then
+  echo "driver sim bench FAILED; launch log tail:"
+  tail -20 "$log/launch.log"
+  status=1
+fi
+kill -INT "$launch" 2>/dev/null; wait "$launch" 2>/dev/null
 bin=$(catkin_find --first-only hal_nodes driver_bench 2>/dev/null || true)
 if [ -z "$bin" ] || [ ! -x "$bin" ]; then
   echo "driver bench: driver_bench not built (catkin_make first)"
   exit 1
 fi
+echo "-- kinematic model (Autopilot + limiter at 50 Hz, one period of delay, 20 ms motor lag):"
 "$bin" --rate 50 --delay 1 --lag 0.02
 echo "-- same, with the 2009 simulator's motor time constant (0.06 s) and two periods of delay:"
 "$bin" --rate 50 --delay 2 --lag 0.06
+exit $status
