@@ -11,7 +11,10 @@
 //   ~frame_id         frame of the Range messages (default "<board name>_link"; the URDF frame)
 //   ~conversion_time  [s] wait after a ranging command, >= 0.065 (default 0.065)
 //   ~field_of_view    [rad] reported beam width (default 0.96, ~55 deg)
-// Topics: ~range (sensor_msgs/Range, latched: metres; +inf when the SRF02 reports no echo),
+// Topics: ~range (sensor_msgs/Range, latched: metres; +inf when the SRF02 reports no echo;
+//         stamped at the ranging command, when the ping went out: the echo describes the world
+//         then, not when it is read a period later. Stamped at the read, a Logion turning at
+//         1.3 rad/s had its sonars 0.13 rad off and the driver took border echoes for the opponent),
 //         ~state (hcl_drivers/SRF02State, latched).
 #include <hcl_drivers/SRF02State.h>
 #include <sensor_msgs/Range.h>
@@ -58,6 +61,7 @@ class SRF02 : public Board {
         ++busy_reads_;
         return true;  // it answered; the result comes on a later call
       }
+      const ros::Time pinged = started_;
       started_ = ros::Time();
       if (r.kind == srf02::ResultKind::kInvalid) {
         std::lock_guard<std::mutex> lk(mutex_);
@@ -65,7 +69,7 @@ class SRF02 : public Board {
         fail("garbled result (range beyond 16 m)");
         return false;
       }
-      publish(r);
+      publish(r, pinged);
     }
     if (dev_.bus->writeRegisters(dev_.address, srf02::kRegCommand, {srf02::kCmdRangeCm}, err) !=
         transport::I2cStatus::kOk) {
@@ -92,10 +96,10 @@ class SRF02 : public Board {
   }
 
  private:
-  void publish(const srf02::Result& r) {
+  void publish(const srf02::Result& r, const ros::Time& pinged) {
     const ros::Time now = ros::Time::now();
     sensor_msgs::Range::Ptr m(new sensor_msgs::Range);
-    m->header.stamp = now;
+    m->header.stamp = pinged;
     m->header.frame_id = frame_id_;
     m->radiation_type = sensor_msgs::Range::ULTRASOUND;
     m->field_of_view = static_cast<float>(fov_);
