@@ -2,6 +2,7 @@
 // on hand-made particle sets (no ROS).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -248,6 +249,53 @@ TEST(Rangers, ReadingAgainstTheTableBorder) {
   EXPECT_FALSE(r.ready(ctx));
   EXPECT_GT(s.w[0], s.w[1]);
   EXPECT_THROW(r.index("nope"), std::out_of_range);
+}
+
+TEST(TableModel, ConeRangeIsTheNearestEdgeInsideTheCone) {
+  auto t = table();
+  // At (1.0, 1.6) looking 45 deg up: the centre line meets the y = 2.1 border at 0.5 / sin 45;
+  // the 0.96 rad cone's upper edge (45 deg + 0.48 rad) comes nearest, the normal is outside it.
+  EXPECT_NEAR(t->coneRange(1.0, 1.6, M_PI / 4, 0.0, 5.0), 0.5 / std::sin(M_PI / 4), 1e-9);
+  EXPECT_NEAR(t->coneRange(1.0, 1.6, M_PI / 4, 0.96, 5.0), 0.5 / std::sin(M_PI / 4 + 0.48), 1e-9);
+  // A cone that holds the normal: the perpendicular distance.
+  EXPECT_NEAR(t->coneRange(1.0, 1.6, M_PI / 2 - 0.2, 0.96, 5.0), 0.5, 1e-9);
+  EXPECT_DOUBLE_EQ(t->coneRange(1.0, 1.6, M_PI / 4, 0.96, 0.3), 0.3);  // capped at max range
+  // Against a fine fan of rays from random free poses (borders and the obstacle's corners).
+  Rng rng(7);
+  for (int i = 0; i < 2000; ++i) {
+    const Pose2 p = t->sampleFree(rng);
+    const double width = rng.uniform(0.0, 1.2);
+    double fan = 1e9;
+    for (int k = 0; k <= 2000; ++k) fan = std::min(fan, t->rayCast(p.x, p.y, p.theta + width * (k / 2000.0 - 0.5), 5.0));
+    const double cone = t->coneRange(p.x, p.y, p.theta, width, 5.0);
+    EXPECT_LE(cone, fan + 1e-9) << p.x << " " << p.y << " " << p.theta << " " << width;
+    EXPECT_NEAR(cone, fan, 1e-3) << p.x << " " << p.y << " " << p.theta << " " << width;
+  }
+}
+
+TEST(Rangers, ASonarIsMeasuredOverItsCone) {
+  auto t = table();
+  RangerConfig side;
+  side.name = "front_left";
+  side.yaw = M_PI / 4;  // at the centre, looking 45 deg to the left
+  side.max_range = 2.0;
+  Rangers from_reading({side}, 1.0, t);
+  const double echo = 0.5 / std::sin(M_PI / 4 + 0.48);  // the nearest echo in a 0.96 rad cone
+  const Pose2 truth{1.0, 1.6, 0.0};
+  EXPECT_GT(from_reading.likelihood(0, truth, echo, 0.96), 10.0 * from_reading.likelihood(0, truth, echo, 0.0));
+  // beam_width < 0: each reading's field_of_view; the pose the echo fits gains weight.
+  ParticleSet s = makeSet({{1.0, 1.6, 0.0}, {1.0, 2.1 - echo * std::sin(M_PI / 4), 0.0}});
+  StepContext ctx;
+  ASSERT_TRUE(from_reading.addRange(0, 0.0, echo, 0.96));
+  from_reading.check(s, ctx);
+  EXPECT_GT(s.w[0], 10.0 * s.w[1]);
+  // A configured beam_width overrides the reading's.
+  side.beam_width = 0.0;
+  Rangers centre_line({side}, 1.0, t);
+  ParticleSet c = makeSet({{1.0, 1.6, 0.0}, {1.0, 2.1 - echo * std::sin(M_PI / 4), 0.0}});
+  ASSERT_TRUE(centre_line.addRange(0, 0.0, echo, 0.96));
+  centre_line.check(c, ctx);
+  EXPECT_GT(c.w[1], 10.0 * c.w[0]);
 }
 
 TEST(Bumpers, ClosedBumperMeansABorderIsNear) {

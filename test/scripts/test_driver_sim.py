@@ -3,11 +3,7 @@
 HCL, HAL with odometry, drive, rangers and localization): goto across the table, a path through
 six checkpoints, cancel latency, the opponent on the route. Ground truth (/sim/*) is read by
 this test only. Parameters: ~robot, ~motor_topic, ~opponent_sensing, ~collision_distance.
-NOT YET REGISTERED in test/CMakeLists.txt (run by hand: rostest system_tests driver_sim_<robot>.test).
-Session 2 (11:12 UTC): eurobot2009 passed all four at load average 13 (path 28.5 mm), failed at load 20
-(localization probability 0.50 < 0.50 mid-goto, path 38 mm, zero motor command 68 ms after the cancel).
-Logion: goto within 10 mm / 2 deg by the driver's estimate, overshoot 5-12 mm, but the path case aborts
-on localization probability < 0.5 and unexplained SRF02 echoes still stop the robot now and then."""
+Registered for both robots (test/launch/driver_sim_eurobot2009.test, driver_sim_logion.test)."""
 import math
 import sys
 import threading

@@ -259,7 +259,9 @@ RobotConfig parseRobot(const Node& n) {
     c.min_range = g.nonNegative("min_range", sharp ? 0.10 : 0.03);
     c.max_range = g.positive("max_range", sharp ? 0.80 : 6.0);
     if (c.max_range <= c.min_range) g.fail("max_range", "must be > min_range");
-    c.beam_width = g.inRange("beam_width", sharp ? 0.06 : 0.5, 0.0, 3.0);
+    // SRF02: the datasheet's ~55 deg cone, the field_of_view its HCL driver reports (hcl_drivers
+    // srf02_registers.h), so the localization and the avoidance measure the echo the sim makes.
+    c.beam_width = g.inRange("beam_width", sharp ? 0.06 : 0.96, 0.0, 3.0);
     c.noise_std = g.nonNegative("noise_std", sharp ? 0.005 : 0.01);
     c.noise_rel = g.nonNegative("noise_rel", sharp ? 0.03 : 0.0);
     c.sees_elements = g.boolean("sees_elements", false);

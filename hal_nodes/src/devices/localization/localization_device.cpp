@@ -34,7 +34,8 @@
 //   ~compass/{enabled [false], topic [/hal/compass/heading], reliability [0.5], std [0.05],
 //             use_measurement_variance [true], outlier_probability [0.1], min_interval [0.1]}
 //   ~rangers_reliability [0.5]  ~rangers/<name>/{topic [/hal/rangers/<name>], x, y, yaw,
-//             min_range [0.03], max_range [2.0], std [0.02], short_probability [0.2], min_interval [0.05]}
+//             min_range [0.03], max_range [2.0], std [0.02], short_probability [0.2], min_interval [0.05],
+//             beam_width [-1: each reading's field_of_view; rad, full cone: the nearest echo in it]}
 //   ~bumpers_topic [/hal/bumpers/contacts]  ~bumpers/<name>/{x, y}  ~bumpers_reliability [0.5]
 //   ~map_frame [map] ~odom_frame [odom] ~base_frame [base_link] ~publish_tf [true]
 //   ~transform_tolerance [0.1 s]  ~latency [0.05 s]  ~cloud_rate [5 Hz]
@@ -322,6 +323,8 @@ class LocalizationDevice : public Device {
       requireInRange(pnh, b + "/short_probability", r.short_probability, 0.0, 0.99);
       r.min_interval = sub(pnh, b, "min_interval", r.min_interval);
       requireInRange(pnh, b + "/min_interval", r.min_interval, 0.0, 60.0);
+      r.beam_width = sub(pnh, b, "beam_width", r.beam_width);
+      if (r.beam_width >= 0.0) requireInRange(pnh, b + "/beam_width", r.beam_width, 0.0, M_PI);
       rangers.push_back(r);
       ranger_topics.push_back(optionalString(pnh, b + "/topic", "/hal/rangers/" + name));
     }
@@ -336,6 +339,7 @@ class LocalizationDevice : public Device {
           p.kind = Payload::kRanger;
           p.index = static_cast<int>(i);
           p.a = m->range;
+          p.b = m->field_of_view;
           push(m->header.stamp, 2, std::move(p));
         }));
     }
@@ -501,7 +505,7 @@ class LocalizationDevice : public Device {
       case Payload::kCompass:
         return compass_->addHeading(stamp, p.a, p.b);
       case Payload::kRanger:
-        return rangers_->addRange(static_cast<std::size_t>(p.index), stamp, p.a);
+        return rangers_->addRange(static_cast<std::size_t>(p.index), stamp, p.a, p.b);
       case Payload::kBumpers:
         bumpers_->setClosed(stamp, p.closed);
         return true;

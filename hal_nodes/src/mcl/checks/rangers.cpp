@@ -1,5 +1,6 @@
 #include "hal_nodes/mcl/checks/rangers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -27,11 +28,13 @@ std::size_t Rangers::index(const std::string& name) const {
   throw std::out_of_range("rangers: no ranger named '" + name + "'");
 }
 
-bool Rangers::addRange(std::size_t k, double stamp, double range) {
+bool Rangers::addRange(std::size_t k, double stamp, double range, double field_of_view) {
   State& s = rangers_.at(k);
   if (!std::isfinite(range) || !std::isfinite(stamp)) return false;
   if (stamp - s.last_applied < s.cfg.min_interval) return true;
   s.range = range;
+  s.beam_width = s.cfg.beam_width >= 0.0 ? s.cfg.beam_width
+                                          : (std::isfinite(field_of_view) ? std::clamp(field_of_view, 0.0, M_PI) : 0.0);
   s.last_applied = stamp;
   s.pending = true;
   return true;
@@ -47,10 +50,10 @@ void Rangers::clear() {
   for (auto& s : rangers_) s.pending = false;
 }
 
-double Rangers::likelihood(std::size_t k, const Pose2& pose, double range) const {
+double Rangers::likelihood(std::size_t k, const Pose2& pose, double range, double beam_width) const {
   const RangerConfig& c = rangers_.at(k).cfg;
   const Pose2 sensor = compose(pose, {c.x, c.y, c.yaw});
-  const double expected = table_->rayCast(sensor.x, sensor.y, sensor.theta, c.max_range);
+  const double expected = table_->coneRange(sensor.x, sensor.y, sensor.theta, beam_width, c.max_range);
   if (range >= c.max_range * 0.999) return expected >= c.max_range * 0.999 ? 1.0 - c.short_probability : c.miss_probability;
   const double e = std::max(range, c.min_range) - expected;
   return (1.0 - c.short_probability) * std::exp(-0.5 * e * e / (c.std * c.std)) / (c.std * std::sqrt(2.0 * M_PI)) +
@@ -63,7 +66,7 @@ void Rangers::check(ParticleSet& set, const StepContext&) {
     if (!s.pending) continue;
     s.pending = false;
     for (std::size_t i = 0; i < set.size(); ++i)
-      if (set.w[i] > 0.0) set.w[i] *= tempered(likelihood(k, {set.x[i], set.y[i], set.theta[i]}, s.range));
+      if (set.w[i] > 0.0) set.w[i] *= tempered(likelihood(k, {set.x[i], set.y[i], set.theta[i]}, s.range, s.beam_width));
   }
 }
 

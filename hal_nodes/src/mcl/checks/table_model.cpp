@@ -94,6 +94,35 @@ double TableModel::rayCast(double x, double y, double angle, double max_range) c
   return std::min(t, max_range);
 }
 
+double TableModel::coneRange(double x, double y, double angle, double beam_width, double max_range) const {
+  const double half = 0.5 * beam_width;
+  double best = rayCast(x, y, angle, max_range);
+  if (!(half > 1e-9) || best <= 0.0) return best;
+  best = std::min({best, rayCast(x, y, angle - half, max_range), rayCast(x, y, angle + half, max_range)});
+  auto inCone = [&](double px, double py) {
+    const double a = std::atan2(py - y, px - x) - angle;
+    return std::fabs(std::atan2(std::sin(a), std::cos(a))) <= half;
+  };
+  // Candidates on an edge (a, b): the foot of the perpendicular and both ends, when in the cone.
+  auto edge = [&](double ax, double ay, double bx, double by) {
+    const double ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey;
+    const double t = std::clamp(((x - ax) * ex + (y - ay) * ey) / l2, 0.0, 1.0);
+    const double fx = ax + t * ex, fy = ay + t * ey;
+    if (inCone(fx, fy)) best = std::min(best, std::hypot(fx - x, fy - y));
+    if (inCone(ax, ay)) best = std::min(best, std::hypot(ax - x, ay - y));
+    if (inCone(bx, by)) best = std::min(best, std::hypot(bx - x, by - y));
+  };
+  auto rect = [&](double x0, double y0, double x1, double y1) {
+    edge(x0, y0, x1, y0);
+    edge(x1, y0, x1, y1);
+    edge(x1, y1, x0, y1);
+    edge(x0, y1, x0, y0);
+  };
+  rect(0.0, 0.0, length_, width_);
+  for (const auto& r : obstacles_) rect(r.x0, r.y0, r.x1, r.y1);
+  return std::min(best, max_range);
+}
+
 double TableModel::distanceToEdge(double x, double y) const {
   if (x <= 0.0 || x >= length_ || y <= 0.0 || y >= width_) return 0.0;
   double d = std::min(std::min(x, length_ - x), std::min(y, width_ - y));

@@ -71,7 +71,7 @@ struct RangerConfig {
   Pose2D mount;                // in base_link
   double min_range = 0.03;
   double max_range = 6.0;
-  double beam_width = 0.5;     // full cone angle [rad]
+  double beam_width = 0.96;    // full cone angle [rad] (SRF02 ~55 deg)
   double noise_std = 0.01;     // [m]
   double noise_rel = 0.0;      // extra std per metre of range
   bool sees_elements = false;  // low rangers see game elements too

@@ -35,6 +35,11 @@ class TableModel : public CheckingInput {
   // Distance from (x, y) along direction `angle` to the first border or obstacle (raw
   // geometry, no margin); 0 if (x, y) is already outside the table or inside an obstacle.
   double rayCast(double x, double y, double angle, double max_range) const;
+  // Distance from (x, y) to the nearest border or obstacle point inside the cone of full width
+  // `beam_width` around `angle`: the first echo of a sonar (its cone, not its centre line);
+  // beam_width 0 is rayCast. Exact: on each edge the nearest point of the cone lies at the
+  // foot of the perpendicular, at a corner, or where a cone edge crosses it.
+  double coneRange(double x, double y, double angle, double beam_width, double max_range) const;
   // Distance from (x, y) to the nearest border or obstacle edge (raw geometry, no margin);
   // 0 when outside the table or inside an obstacle.
   double distanceToEdge(double x, double y) const;
