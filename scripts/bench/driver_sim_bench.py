@@ -91,6 +91,7 @@ class Bench(object):
 
     def goals(self):
         times, pos, ang, over, failed = [], [], [], [], []
+        own_pos, own_ang = [], []  # the driver's own final errors (its localization's view)
         for i, (gx, gy, ga) in enumerate(GOALS):
             sx, sy, _ = self.truth_pose()
             t0 = time.monotonic()
@@ -105,6 +106,9 @@ class Bench(object):
             n = math.hypot(ux, uy)
             o = max([((m.pose.pose.position.x - gx) * ux + (m.pose.pose.position.y - gy) * uy) / n
                      for _, m in self.truth.since(t0)] + [0.0]) if n > 1e-3 else 0.0
+            if result is not None:
+                own_pos.append(result.position_error)
+                own_ang.append(abs(result.angle_error))
             if state != GoalStatus.SUCCEEDED:
                 failed.append('%d (%s)' % (i + 1, result.message if result else 'no result'))
             times.append(took)
@@ -119,6 +123,10 @@ class Bench(object):
               % (1e3 * sum(pos) / len(pos), 1e3 * max(pos)))
         print('  final heading error vs ground truth: mean %.2f deg, max %.2f deg'
               % (sum(ang) / len(ang) / DEG, max(ang) / DEG))
+        if own_pos:
+            print('  final error by the driver\'s own estimate: mean %.1f mm, max %.1f mm; heading mean %.2f deg, max %.2f deg '
+                  '(the rest of the ground-truth error is the localization\'s)'
+                  % (1e3 * sum(own_pos) / len(own_pos), 1e3 * max(own_pos), sum(own_ang) / len(own_ang) / DEG, max(own_ang) / DEG))
         print('  overshoot beyond the goal along the approach: mean %.1f mm, max %.1f mm'
               % (1e3 * sum(over) / len(over), 1e3 * max(over)))
 
