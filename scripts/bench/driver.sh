@@ -13,6 +13,7 @@ set -uo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 port=11497   # private master for this bench (driver area)
 export ROS_MASTER_URI=http://127.0.0.1:$port
+export PYTHONPATH=$root/test/scripts:${PYTHONPATH:-}
 log=$(mktemp -d /tmp/bench_driver.XXXX)
 export ROS_LOG_DIR=$log
 roslaunch -p $port "$root/scripts/bench/driver_sim.launch" >"$log/launch.log" 2>&1 &

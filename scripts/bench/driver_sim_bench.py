@@ -10,7 +10,6 @@ import argparse
 import math
 import random
 import sys
-import threading
 import time
 
 import actionlib
@@ -20,6 +19,8 @@ from geometry_msgs.msg import Twist
 from hal_nodes.msg import GotoAction, GotoGoal, LocalizationQuality
 from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry
+
+from hal_test_common import Recorder  # test/scripts (driver.sh puts it on PYTHONPATH)
 
 GOALS = [(2.60, 1.70, 0.00), (0.40, 1.70, math.pi), (0.40, 0.40, -math.pi / 2), (2.60, 0.40, 0.0),
          (1.50, 1.05, math.pi / 2), (1.50, 1.60, math.pi / 2), (1.00, 1.00, 2.0), (1.02, 1.01, 2.0),
@@ -44,33 +45,12 @@ def percentile(values, p):
     return v[min(len(v) - 1, max(0, int(math.ceil(p * len(v))) - 1))]
 
 
-class Log(object):
-    """Every message of a topic with its arrival time (monotonic clock)."""
-
-    def __init__(self, topic, cls):
-        self.lock = threading.Lock()
-        self.items = []
-        rospy.Subscriber(topic, cls, self._cb, queue_size=500, tcp_nodelay=True)
-
-    def _cb(self, m):
-        with self.lock:
-            self.items.append((time.monotonic(), m))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
 class Bench(object):
     def __init__(self):
-        self.truth = Log('/sim/ground_truth', Odometry)
-        self.cmd = Log('/hal/drive/cmd_vel', Twist)
-        self.motor = Log('/hcl/motor_board/motor/left/command', MotorCommand)
-        self.quality = Log('/mcl/quality', LocalizationQuality)
+        self.truth = Recorder('/sim/ground_truth', Odometry)
+        self.cmd = Recorder('/hal/drive/cmd_vel', Twist)
+        self.motor = Recorder('/hcl/motor_board/motor/left/command', MotorCommand)
+        self.quality = Recorder('/mcl/quality', LocalizationQuality)
         self.goto = actionlib.SimpleActionClient('/hal/driver/goto', GotoAction)
 
     def wait_ready(self):

@@ -6,7 +6,6 @@ this test only. Parameters: ~robot, ~motor_topic, ~opponent_sensing, ~collision_
 Registered for both robots (test/launch/driver_sim_eurobot2009.test, driver_sim_logion.test)."""
 import math
 import sys
-import threading
 import time
 import unittest
 
@@ -21,6 +20,8 @@ from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry, Path
 from robot_sim.srv import PlaceOpponent
 
+from hal_test_common import Recorder
+
 DEG = math.pi / 180.0
 
 
@@ -28,36 +29,17 @@ def yaw(q):
     return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
-class Log(object):
-    def __init__(self, topic, cls, key=None):
-        self.lock = threading.Lock()
-        self.items = []
-        rospy.Subscriber(topic, cls, self._cb, queue_size=200, tcp_nodelay=True)
-
-    def _cb(self, m):
-        with self.lock:
-            self.items.append((time.monotonic(), m))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
 class DriverSimTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_driver_sim')
         cls.robot = rospy.get_param('~robot')
-        cls.truth = Log('/sim/ground_truth', Odometry)
-        cls.opponent = Log('/sim/opponent', Odometry)
-        cls.cmd = Log('/hal/drive/cmd_vel', Twist)
-        cls.motor = Log(rospy.get_param('~motor_topic'), MotorCommand)
-        cls.quality = Log('/mcl/quality', LocalizationQuality)
-        cls.path_msgs = Log('/hal/driver/path', Path)
+        cls.truth = Recorder('/sim/ground_truth', Odometry)
+        cls.opponent = Recorder('/sim/opponent', Odometry)
+        cls.cmd = Recorder('/hal/drive/cmd_vel', Twist)
+        cls.motor = Recorder(rospy.get_param('~motor_topic'), MotorCommand)
+        cls.quality = Recorder('/mcl/quality', LocalizationQuality)
+        cls.path_msgs = Recorder('/hal/driver/path', Path)
         # The age of /odom on arrival (ROS time, the sim clock, minus its stamp): what the driver's
         # ~max_odom_age is measured against, plus up to one control period.
         cls.odom_ages = []
