@@ -20,7 +20,7 @@ from hal_nodes.msg import GotoAction, GotoGoal, LocalizationQuality
 from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry
 
-from hal_test_common import Recorder  # test/scripts (driver.sh puts it on PYTHONPATH)
+from hal_test_common import Recorder, yaw_of  # test/scripts (driver.sh puts it on PYTHONPATH)
 
 GOALS = [(2.60, 1.70, 0.00), (0.40, 1.70, math.pi), (0.40, 0.40, -math.pi / 2), (2.60, 0.40, 0.0),
          (1.50, 1.05, math.pi / 2), (1.50, 1.60, math.pi / 2), (1.00, 1.00, 2.0), (1.02, 1.01, 2.0),
@@ -30,10 +30,6 @@ GOALS = [(2.60, 1.70, 0.00), (0.40, 1.70, math.pi), (0.40, 0.40, -math.pi / 2), 
 DEG = math.pi / 180.0
 STOPPED_SPEED = 0.005    # [m/s] truth linear speed below which the wheels count as stopped
 STOPPED_TURN = 0.05      # [rad/s] and the turn rate
-
-
-def yaw(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
 def angle_diff(a, b):
@@ -67,7 +63,7 @@ class Bench(object):
 
     def truth_pose(self):
         m = self.truth.last()
-        return m.pose.pose.position.x, m.pose.pose.position.y, yaw(m.pose.pose.orientation)
+        return m.pose.pose.position.x, m.pose.pose.position.y, yaw_of(m.pose.pose.orientation)
 
     def goals(self):
         times, pos, ang, over, failed = [], [], [], [], []

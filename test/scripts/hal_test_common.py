@@ -2,12 +2,18 @@
 connection, bounded waits, device diagnostics, and the effector switch with its service
 connections opened in advance (so a measured deactivation latency starts when the request is
 sent, not at the master lookup of the service)."""
+import math
 import threading
 import time
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from std_srvs.srv import Trigger
+
+
+def yaw_of(q):
+    """The heading [rad] of a geometry_msgs/Quaternion (rotation about z)."""
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
 def wait_for(pred, timeout, step=0.01):

@@ -20,13 +20,9 @@ from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry, Path
 from robot_sim.srv import PlaceOpponent
 
-from hal_test_common import Recorder
+from hal_test_common import Recorder, yaw_of
 
 DEG = math.pi / 180.0
-
-
-def yaw(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
 class DriverSimTest(unittest.TestCase):
@@ -73,7 +69,7 @@ class DriverSimTest(unittest.TestCase):
 
     def truth_pose(self):
         m = self.truth.last()
-        return m.pose.pose.position.x, m.pose.pose.position.y, yaw(m.pose.pose.orientation)
+        return m.pose.pose.position.x, m.pose.pose.position.y, yaw_of(m.pose.pose.orientation)
 
     def run_goto(self, x, y, angle, timeout=40.0):
         t0 = time.monotonic()

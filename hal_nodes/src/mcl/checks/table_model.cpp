@@ -96,31 +96,36 @@ double TableModel::rayCast(double x, double y, double angle, double max_range) c
 
 double TableModel::coneRange(double x, double y, double angle, double beam_width, double max_range) const {
   const double half = 0.5 * beam_width;
-  double best = rayCast(x, y, angle, max_range);
-  if (!(half > 1e-9) || best <= 0.0) return best;
-  best = std::min({best, rayCast(x, y, angle - half, max_range), rayCast(x, y, angle + half, max_range)});
-  auto inCone = [&](double px, double py) {
-    const double a = std::atan2(py - y, px - x) - angle;
-    return std::fabs(std::atan2(std::sin(a), std::cos(a))) <= half;
+  if (!(half > 1e-9)) return rayCast(x, y, angle, max_range);
+  // The cone's edge rays (0 when (x, y) is off the table or inside an obstacle, at any angle).
+  double best = rayCast(x, y, angle - half, max_range);
+  if (best <= 0.0) return best;
+  best = std::min(best, rayCast(x, y, angle + half, max_range));
+  // A point is in the cone when its angle to the axis is at most half: cos >= cos(half), a dot
+  // product, no trigonometry per point (this runs for every particle of every ranger reading).
+  const double ux = std::cos(angle), uy = std::sin(angle), cos_half = std::cos(half);
+  auto consider = [&](double px, double py) {
+    const double dx = px - x, dy = py - y, d2 = dx * dx + dy * dy;
+    if (d2 >= best * best) return;
+    const double d = std::sqrt(d2);
+    if (dx * ux + dy * uy >= d * cos_half) best = d;
   };
-  // Candidates on an edge (a, b): the foot of the perpendicular and both ends, when in the cone.
-  auto edge = [&](double ax, double ay, double bx, double by) {
-    const double ex = bx - ax, ey = by - ay, l2 = ex * ex + ey * ey;
-    const double t = std::clamp(((x - ax) * ex + (y - ay) * ey) / l2, 0.0, 1.0);
-    const double fx = ax + t * ex, fy = ay + t * ey;
-    if (inCone(fx, fy)) best = std::min(best, std::hypot(fx - x, fy - y));
-    if (inCone(ax, ay)) best = std::min(best, std::hypot(ax - x, ay - y));
-    if (inCone(bx, by)) best = std::min(best, std::hypot(bx - x, by - y));
-  };
+  // On each edge of an axis-aligned rectangle the nearest point of the cone is the foot of the
+  // perpendicular, a corner, or where an edge ray crosses it (already in best).
   auto rect = [&](double x0, double y0, double x1, double y1) {
-    edge(x0, y0, x1, y0);
-    edge(x1, y0, x1, y1);
-    edge(x1, y1, x0, y1);
-    edge(x0, y1, x0, y0);
+    const double fx = std::clamp(x, x0, x1), fy = std::clamp(y, y0, y1);
+    consider(fx, y0);
+    consider(fx, y1);
+    consider(x0, fy);
+    consider(x1, fy);
+    consider(x0, y0);
+    consider(x1, y0);
+    consider(x0, y1);
+    consider(x1, y1);
   };
   rect(0.0, 0.0, length_, width_);
   for (const auto& r : obstacles_) rect(r.x0, r.y0, r.x1, r.y1);
-  return std::min(best, max_range);
+  return best;
 }
 
 double TableModel::distanceToEdge(double x, double y) const {
