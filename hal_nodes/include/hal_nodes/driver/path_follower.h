@@ -1,7 +1,12 @@
 // Follows a sampled curve (HermitePath::sample) forwards. Steering is the curve's own
 // curvature (feedforward) plus feedback on the lateral and heading errors from the closest
 // point, tuned as a critically damped approach over `convergence_distance` whatever the speed:
-//   w = v * kappa + v * e_y / D^2 + 2 * v / D * e_theta
+//   w = v * kappa + v * e_y / D^2 + 2 * max(v, v_h) / D * e_theta
+// v_h (`heading_correction_speed`) keeps the heading feedback alive when the robot is slow: in
+// a sharp bend (a checkpoint the curve leaves almost backwards) the bend's speed limit is a few
+// cm/s, the motor lag leaves the heading behind the tangent, and with a gain proportional to v
+// that error was still there when the robot sped up on the way out, which carried it 20-30 mm
+// off the curve. With the floor, the robot turns onto the tangent on the spot.
 // kappa is taken `lookahead_time` ahead along the curve (at the current speed): the wheels
 // answer a command only after the motor and pipeline lag, so steering for the bend that is
 // reached then keeps the robot on the curve where the curvature changes (bend entries/exits).
@@ -26,6 +31,7 @@ struct PathFollowerConfig {
   double sample_step = 0.005;    // [m] spacing of the curve's samples
   double max_lateral_accel = 0.3;  // [m/s^2] speed in bends: v^2 * curvature stays under it
   double lookahead_time = 0.0;     // [s] feed-forward curvature taken this far ahead (the actuation lag)
+  double heading_correction_speed = 0.2;  // [m/s] slower than this, heading errors are corrected as at this speed
 
   std::string invalidReason() const;  // empty when usable
 };

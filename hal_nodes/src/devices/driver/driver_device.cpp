@@ -125,6 +125,7 @@ class Driver : public Effector {
     pf.max_lateral_accel = optionalDouble(pp, "max_lateral_accel", pf.max_lateral_accel);
     pf.sample_step = optionalDouble(pp, "sample_step", pf.sample_step);
     pf.lookahead_time = optionalDouble(pp, "lookahead_time", pf.lookahead_time);
+    pf.heading_correction_speed = optionalDouble(pp, "heading_correction_speed", pf.heading_correction_speed);
     check(pp, "", pf.invalidReason());
 
     AvoidanceConfig av;

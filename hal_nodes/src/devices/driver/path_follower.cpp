@@ -12,6 +12,7 @@ std::string PathFollowerConfig::invalidReason() const {
   if (!(sample_step > 0.0 && sample_step <= 0.1)) return "sample_step must be in (0, 0.1]";
   if (!(max_lateral_accel > 0.0)) return "max_lateral_accel must be > 0";
   if (!(lookahead_time >= 0.0 && lookahead_time <= 0.5)) return "lookahead_time must be in [0, 0.5]";
+  if (!(heading_correction_speed >= 0.0 && heading_correction_speed <= 1.0)) return "heading_correction_speed must be in [0, 1]";
   return "";
 }
 
@@ -114,7 +115,9 @@ Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
     kappa = samples_[k].curvature;
   }
   const double offset = std::clamp(lateral, -D, D);
-  return Twist2D{speed, speed * (kappa + offset / (D * D)) + 2.0 * speed / D * e_theta};
+  // The lateral term needs motion to act; the heading term does not (the robot can turn on the spot).
+  const double heading_speed = std::max(speed, config_.heading_correction_speed);
+  return Twist2D{speed, speed * (kappa + offset / (D * D)) + 2.0 * heading_speed / D * e_theta};
 }
 
 }  // namespace driver
