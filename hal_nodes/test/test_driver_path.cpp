@@ -80,7 +80,7 @@ TEST(PathFollower, SixCheckpointsWithin30mmOfTheCurve) {
 // ~0.08 s) the robot stays within 22 mm of the curve. With heading feedback proportional to the
 // speed only (heading_correction_speed 0) the heading lagged the tangent by 20-30 deg at that
 // checkpoint and the way out ran 23-30 mm off the curve for 8 of these 16 lags (now 18.3 mm at most).
-TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
+AutopilotConfig logionConfig() {
   AutopilotConfig cfg;
   cfg.speed_curve = {0.35, 0.7};
   cfg.turn_curve = {0.5, 0.8};
@@ -90,9 +90,19 @@ TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
   cfg.limits.max_angular_accel = 5.0;
   cfg.limits.max_wheel_speed = 0.65;
   cfg.limits.track_width = 0.28;
+  return cfg;
+}
+
+PathFollowerConfig logionPathConfig() {
   PathFollowerConfig pcfg;
   pcfg.max_lateral_accel = 0.18;
   pcfg.lookahead_time = 0.16;
+  return pcfg;
+}
+
+TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
+  const AutopilotConfig cfg = logionConfig();
+  const PathFollowerConfig pcfg = logionPathConfig();
   const std::vector<Checkpoint> cps = {{0.9, 1.55}, {1.3, 1.75}, {1.7, 1.45}, {2.1, 1.7}, {2.5, 1.5}, {2.1, 1.3}};
   for (int delay = 1; delay <= 4; ++delay) {
     for (double time_constant : {0.02, 0.05, 0.08, 0.12}) {
@@ -102,6 +112,24 @@ TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
       EXPECT_LE(run.max_deviation, 0.022);
       EXPECT_LE(run.final_error, 0.010);
       EXPECT_EQ(run.passed, 6);
+      EXPECT_EQ(run.violations, 0);
+    }
+  }
+}
+
+// Logion's homologation path (config/logion.yaml): out of the start zone, down to (0.8, 0.4)
+// over a last segment too short to take back the offset from the bend before it. The robot
+// reached the end along the tangent 11 mm beside it and stood there for ever (the brain's 25 s
+// timeout cancelled it) for 14 of these 16 lags; the Autopilot now closes that gap.
+TEST(PathFollower, AnEndReachedBesideItIsStillReached) {
+  const std::vector<Checkpoint> cps = {{0.5, 1.2}, {0.8, 0.7}, {0.8, 0.4}};
+  for (int delay = 1; delay <= 4; ++delay) {
+    for (double time_constant : {0.02, 0.05, 0.08, 0.12}) {
+      const PathRun run = follow({0.55, 1.80, 0.0}, cps, 0.0, logionConfig(), logionPathConfig(), Lag{delay, time_constant});
+      SCOPED_TRACE(::testing::Message() << "delay " << delay << " periods, time constant " << time_constant << " s");
+      EXPECT_TRUE(run.finished);
+      EXPECT_LE(run.final_error, 0.010);
+      EXPECT_EQ(run.passed, 3);
       EXPECT_EQ(run.violations, 0);
     }
   }

@@ -13,6 +13,10 @@
 // Speed comes from the Autopilot's speed curve on the arc length left, capped so every bend
 // ahead can be taken under `max_lateral_accel` and the turn-rate limit. Past the end of the
 // curve the reference is the final tangent, so the robot arrives on it without weaving.
+// A robot that reaches the end along the tangent but more than `tolerance` beside it cannot
+// close that by driving along the tangent (the lateral term needs distance to act): the
+// Autopilot then takes it onto the end point (turn, creep, turn back to the end's heading), as
+// a goto would. Without that the follower stood 11 mm beside a path's end for ever.
 // Pure computation, tested without ROS.
 #pragma once
 
@@ -38,7 +42,7 @@ struct PathFollowerConfig {
 
 class PathFollower {
  public:
-  PathFollower(const AutopilotConfig& base, const PathFollowerConfig& config) : base_(base), config_(config) {}
+  PathFollower(const AutopilotConfig& base, const PathFollowerConfig& config) : base_(base), config_(config), finish_(base) {}
 
   // Follow `samples` (non-empty) to its last point within `tolerance`; max_speed 0: the limit.
   void start(std::vector<PathSample> samples, double tolerance, double max_speed);
@@ -46,6 +50,7 @@ class PathFollower {
 
   bool done() const { return done_; }
   bool active() const { return !samples_.empty() && !done_; }
+  bool finishingOnThePoint() const { return finishing_; }  // the Autopilot closes the last gap
   double remaining() const { return remaining_; }        // arc length left [m]
   double crossTrackError() const { return cross_track_; }  // distance to the curve [m]
   double progressPercent() const;
@@ -57,10 +62,11 @@ class PathFollower {
  private:
   AutopilotConfig base_;
   PathFollowerConfig config_;
+  Autopilot finish_;  // onto the end point when the curve's end was reached beside it
   std::vector<PathSample> samples_;
   std::size_t index_ = 0;
   double tolerance_ = 0.01, max_speed_ = 0.0, remaining_ = 0.0, cross_track_ = 0.0;
-  bool settling_ = false, done_ = true;
+  bool settling_ = false, finishing_ = false, done_ = true;
 };
 
 }  // namespace driver

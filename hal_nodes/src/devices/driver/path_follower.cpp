@@ -25,6 +25,7 @@ void PathFollower::start(std::vector<PathSample> samples, double tolerance, doub
   remaining_ = samples_.empty() ? 0.0 : samples_.back().s;
   cross_track_ = 0.0;
   settling_ = false;
+  finishing_ = false;
   done_ = samples_.empty();
 }
 
@@ -45,6 +46,12 @@ double PathFollower::progressPercent() const {
 
 Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
   if (done_ || samples_.empty()) return Twist2D();
+  if (finishing_) {
+    const Twist2D cmd = finish_.step(pose, current);
+    remaining_ = finish_.remainingDistance();
+    done_ = finish_.done();
+    return cmd;
+  }
   const MotionLimits& lim = base_.limits;
 
   // Progress: the closest sample within a window ahead (never backwards: the curve may cross itself).
@@ -78,6 +85,16 @@ Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
     if (current.v == 0.0 && current.w == 0.0) done_ = true;
     return Twist2D();
   }
+  if (final_approach && along_end <= 0.5 * tolerance_ && d_end > tolerance_) {  // at the end, but beside it
+    AutopilotGoal goal;
+    goal.target = {end.x, end.y, end.heading};
+    goal.position_tolerance = tolerance_;
+    goal.max_speed = max_speed_;
+    goal.allow_reverse = true;
+    finish_.start(goal, pose);
+    finishing_ = true;
+    return step(pose, current);
+  }
 
   // Errors in the curve's frame at the reference point (left of the robot / turned left: positive).
   const double e_y = -(pose.x - ref.x) * std::sin(ref.heading) + (pose.y - ref.y) * std::cos(ref.heading);
@@ -106,7 +123,6 @@ Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
     }
     speed = std::min(speed, std::sqrt(bend * bend + 2.0 * decel * (samples_[k].s - ref.s)));
   }
-  if (final_approach && along_end < 0.0) return Twist2D{-speed, 0.0};  // rolled past the end: back up onto it
   double kappa = 0.0;
   if (!final_approach) {  // the bend the robot will be in once this command takes effect
     std::size_t k = index_;
