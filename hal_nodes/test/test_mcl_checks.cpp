@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "hal_nodes/mcl/kld.h"
@@ -248,7 +249,41 @@ TEST(Rangers, ReadingAgainstTheTableBorder) {
   r.check(s, ctx);
   EXPECT_FALSE(r.ready(ctx));
   EXPECT_GT(s.w[0], s.w[1]);
+  // +inf (REP 117, nothing in range, as the HAL's filter passes it on) is that reading.
+  ParticleSet inf = makeSet({{0.3, 1.0, 0.0}, {2.3, 1.0, 0.0}});
+  ASSERT_TRUE(r.addRange(r.index("front"), 5.0, std::numeric_limits<double>::infinity()));
+  r.check(inf, StepContext());
+  EXPECT_GT(inf.w[0], 2.0 * inf.w[1]);
   EXPECT_THROW(r.index("nope"), std::out_of_range);
+}
+
+TEST(Rangers, AMinimumRangeReadingMeansThisNearOrNearer) {
+  auto t = table();
+  RangerConfig back;
+  back.name = "back";
+  back.yaw = M_PI;  // at the centre, looking backwards
+  back.min_range = 0.16;  // an SRF02: 16 cm for anything nearer
+  back.std = 0.03;
+  Rangers r({back}, 1.0, t);
+  // The robot 8 cm from the x = 0 border reads 0.16: as likely as 12 cm away (both "nearer"),
+  // far more than 20 cm away, where a border would have been seen beyond the minimum.
+  EXPECT_NEAR(r.likelihood(0, {0.08, 1.0, 0.0}, 0.16), r.likelihood(0, {0.04, 1.0, 0.0}, 0.16), 0.01);
+  EXPECT_GT(r.likelihood(0, {0.08, 1.0, 0.0}, 0.16), 0.75);  // (1 - short) * ~1
+  EXPECT_GT(r.likelihood(0, {0.08, 1.0, 0.0}, 0.16), 10.0 * r.likelihood(0, {0.26, 1.0, 0.0}, 0.16));
+  // Taken as an exact 0.16 it would have favoured 16 cm over the true 8 cm.
+  ParticleSet s = makeSet({{0.08, 1.0, 0.0}, {0.16, 1.0, 0.0}});
+  StepContext ctx;
+  ASSERT_TRUE(r.addRange(0, 0.0, 0.16));
+  r.check(s, ctx);
+  EXPECT_GT(s.w[0], 1.5 * s.w[1]);
+  // REP 117's -inf ("too near to measure") is the same reading; NaN is refused.
+  ParticleSet n = makeSet({{0.08, 1.0, 0.0}, {0.16, 1.0, 0.0}});
+  ASSERT_TRUE(r.addRange(0, 1.0, -std::numeric_limits<double>::infinity()));
+  r.check(n, ctx);
+  EXPECT_DOUBLE_EQ(n.w[0] / n.w[1], s.w[0] / s.w[1]);
+  EXPECT_FALSE(r.addRange(0, 2.0, std::nan("")));
+  // Above the minimum, a reading is a distance again.
+  EXPECT_GT(r.likelihood(0, {0.30, 1.0, 0.0}, 0.30), 10.0 * r.likelihood(0, {0.08, 1.0, 0.0}, 0.30));
 }
 
 TEST(TableModel, ConeRangeIsTheNearestEdgeInsideTheCone) {

@@ -30,9 +30,11 @@ std::size_t Rangers::index(const std::string& name) const {
 
 bool Rangers::addRange(std::size_t k, double stamp, double range, double field_of_view) {
   State& s = rangers_.at(k);
-  if (!std::isfinite(range) || !std::isfinite(stamp)) return false;
+  if (std::isnan(range) || !std::isfinite(stamp)) return false;
   if (stamp - s.last_applied < s.cfg.min_interval) return true;
-  s.range = range;
+  // REP 117: -inf is "nearer than the part can measure", +inf "nothing in range": the two
+  // censored readings, information too (the HAL's range filter passes +inf on for that).
+  s.range = std::isinf(range) ? (range < 0.0 ? s.cfg.min_range : s.cfg.max_range) : range;
   s.beam_width = s.cfg.beam_width >= 0.0 ? s.cfg.beam_width
                                           : (std::isfinite(field_of_view) ? std::clamp(field_of_view, 0.0, M_PI) : 0.0);
   s.last_applied = stamp;
@@ -55,7 +57,11 @@ double Rangers::likelihood(std::size_t k, const Pose2& pose, double range, doubl
   const Pose2 sensor = compose(pose, {c.x, c.y, c.yaw});
   const double expected = table_->coneRange(sensor.x, sensor.y, sensor.theta, beam_width, c.max_range);
   if (range >= c.max_range * 0.999) return expected >= c.max_range * 0.999 ? 1.0 - c.short_probability : c.miss_probability;
-  const double e = std::max(range, c.min_range) - expected;
+  if (range <= c.min_range * 1.001) {  // "min_range or nearer": the chance the true distance is below it
+    const double below = 0.5 * std::erfc((expected - c.min_range) / (c.std * std::sqrt(2.0)));
+    return (1.0 - c.short_probability) * below + c.short_probability * c.min_range / c.max_range;
+  }
+  const double e = range - expected;
   return (1.0 - c.short_probability) * std::exp(-0.5 * e * e / (c.std * c.std)) / (c.std * std::sqrt(2.0 * M_PI)) +
          c.short_probability / c.max_range;
 }
