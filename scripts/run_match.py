@@ -100,12 +100,20 @@ def main():
 
 
 def free_port(kind):
-    """A UDP or TCP port on loopback nobody holds now (this run's emulators bind it)."""
-    s = socket.socket(socket.AF_INET, kind)
-    s.bind(('127.0.0.1', 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
+    """A UDP or TCP port on loopback nobody holds now (this run's emulators bind it), from the
+    project's 28000-28999: below the ephemeral range, so no outgoing connection takes it
+    between this check and the emulator's bind (see the README, launch arguments)."""
+    import random
+    for port in random.sample(range(28000, 29000), 1000):
+        s = socket.socket(socket.AF_INET, kind)
+        try:
+            s.bind(('127.0.0.1', port))
+            return port
+        except OSError:
+            continue
+        finally:
+            s.close()
+    raise RuntimeError('no free port in 28000-28999 on 127.0.0.1')
 
 
 def follow_match(args):

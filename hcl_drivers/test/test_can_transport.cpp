@@ -1,6 +1,6 @@
 // CAN transports: the CAN-over-UDP wire format, the broadcast behaviour of the UDP bus (hub
 // fan-out, no frame stealing, no echo to the sender, hub takeover), error frames and the bus
-// state machine. UDP ports 47050..47059 (CAN's range).
+// state machine. UDP ports 27050..27059 (CAN's range).
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <sys/socket.h>
@@ -81,9 +81,9 @@ TEST(UdpCanWire, RejectsMalformedDatagrams) {
 }
 
 TEST(UdpCanBus, BroadcastsToEveryParticipantButTheSender) {
-  auto hub = participant(47050);
-  auto a = participant(47050);
-  auto b = participant(47050);
+  auto hub = participant(27050);
+  auto a = participant(27050);
+  auto b = participant(27050);
   ASSERT_TRUE(hub->isHub());
   ASSERT_FALSE(a->isHub());
   ASSERT_FALSE(b->isHub());
@@ -113,8 +113,8 @@ TEST(UdpCanBus, BroadcastsToEveryParticipantButTheSender) {
 }
 
 TEST(UdpCanBus, FiltersDoNotStealFrames) {
-  auto hub = participant(47051);
-  auto a = participant(47051);
+  auto hub = participant(27051);
+  auto a = participant(27051);
   auto node10 = hub->open({CanFilter{10, 0x7F}});
   auto node11 = hub->open({CanFilter{11, 0x7F}});
   auto everything = hub->open({});
@@ -135,9 +135,9 @@ TEST(UdpCanBus, FiltersDoNotStealFrames) {
 }
 
 TEST(UdpCanBus, AClientTakesOverWhenTheHubDies) {
-  auto hub = participant(47052);
-  auto a = participant(47052);
-  auto b = participant(47052);
+  auto hub = participant(27052);
+  auto a = participant(27052);
+  auto b = participant(27052);
   auto ch_a = a->open({});
   auto ch_b = b->open({});
   settle();
@@ -156,8 +156,8 @@ TEST(UdpCanBus, AClientTakesOverWhenTheHubDies) {
 }
 
 TEST(UdpCanBus, ErrorFramesDriveTheBusStateAndMalformedDatagramsAreCounted) {
-  auto hub = participant(47053);
-  auto a = participant(47053);
+  auto hub = participant(27053);
+  auto a = participant(27053);
   auto ch_a = a->open({});
   auto ch_hub = hub->open({});
   settle();
@@ -181,7 +181,7 @@ TEST(UdpCanBus, ErrorFramesDriveTheBusStateAndMalformedDatagramsAreCounted) {
   int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in to{};
   to.sin_family = AF_INET;
-  to.sin_port = htons(47053);
+  to.sin_port = htons(27053);
   to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   const char garbage[] = "not a CAN frame";
   ::sendto(fd, garbage, sizeof(garbage), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
@@ -242,8 +242,8 @@ TEST(CanFrame, CandumpStyleText) {
 }
 
 TEST(OpenCanBus, SharesOneBusPerUrlAndRejectsBadUrls) {
-  auto a = openCanBus("udp://127.0.0.1:47054");
-  auto b = openCanBus("udp://127.0.0.1:47054");
+  auto a = openCanBus("udp://127.0.0.1:27054");
+  auto b = openCanBus("udp://127.0.0.1:27054");
   EXPECT_EQ(a.get(), b.get());
   EXPECT_THROW(openCanBus("tcp://x"), std::invalid_argument);
   EXPECT_THROW(openCanBus("/dev/i2c-1"), std::invalid_argument);

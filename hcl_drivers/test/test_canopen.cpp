@@ -1,6 +1,6 @@
 // The CANopen master layer: every NMT and SDO path, byte-exact, and RemoteNode against a
 // scripted node on a CAN-over-UDP bus (SDO aborts and timeouts surfaced as SdoError, boot-up
-// consumption, malformed and unknown frames counted). UDP ports 47055..47059.
+// consumption, malformed and unknown frames counted). UDP ports 27055..27059.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -262,9 +262,9 @@ class ScriptedNode {
 class RemoteNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    bus_ = std::make_shared<transport::UdpCanBus>("udp", "127.0.0.1", 47055);
+    bus_ = std::make_shared<transport::UdpCanBus>("udp", "127.0.0.1", 27055);
     node_ = std::make_unique<RemoteNode>(bus_, 5);
-    scripted_ = std::make_unique<ScriptedNode>(47055, 5);
+    scripted_ = std::make_unique<ScriptedNode>(27055, 5);
     std::this_thread::sleep_for(std::chrono::milliseconds(80));
   }
   std::shared_ptr<transport::UdpCanBus> bus_;

@@ -5,10 +5,10 @@
 using hcl_drivers::transport::parseEndpoint;
 
 TEST(Endpoint, Udp) {
-  auto e = parseEndpoint("udp://127.0.0.1:47100");
+  auto e = parseEndpoint("udp://127.0.0.1:27100");
   EXPECT_EQ(e.scheme, "udp");
   EXPECT_EQ(e.host, "127.0.0.1");
-  EXPECT_EQ(e.port, 47100);
+  EXPECT_EQ(e.port, 27100);
 }
 
 TEST(Endpoint, SocketCanSimAndDevice) {

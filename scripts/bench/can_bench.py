@@ -13,7 +13,7 @@ import time
 import yaml
 
 ROOT = sys.argv[1] if len(sys.argv) > 1 else '.'
-PORT = 47020
+PORT = 27020
 BUS = 'udp://127.0.0.1:%d' % PORT
 CAN_TYPES = {'MotorBoard', 'StepperBoard', 'ServoBoard', 'Epos', 'HmiBoard'}
 

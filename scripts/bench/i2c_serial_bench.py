@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Figures for scripts/bench/i2c_serial.sh (see there). Own ROS master on port 47290."""
+"""Figures for scripts/bench/i2c_serial.sh (see there). Own ROS master on port 27290."""
 import os
 import subprocess
 import sys
@@ -10,7 +10,7 @@ import time
 import yaml
 
 ROOT = sys.argv[1] if len(sys.argv) > 1 else os.getcwd()
-PORT = 47290
+PORT = 27290
 os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % PORT
 I2C_TYPES = {'HBMotor': 'hbmotor', 'MCP23016': 'mcp23016', 'SRF02': 'srf02', 'CMPS03': 'cmps03'}
 MEASURE_S = 6.0

@@ -25,13 +25,13 @@ class BadParametersTest(unittest.TestCase):
 
     def test_board_rate_must_be_positive(self):
         rc, out = run_node('hcl_drivers', 'hcl_node', 'bad_rate',
-                           {'b': {'type': 'ExampleBoard', 'rate': 0, 'endpoint': 'udp://127.0.0.1:47999'}})
+                           {'b': {'type': 'ExampleBoard', 'rate': 0, 'endpoint': 'udp://127.0.0.1:27999'}})
         self.assertNotEqual(rc, 0)
         self.assertIn('/bad_rate/b/rate = 0: must be > 0', out)
 
     def test_board_rate_is_required(self):
         rc, out = run_node('hcl_drivers', 'hcl_node', 'no_rate',
-                           {'b': {'type': 'ExampleBoard', 'endpoint': 'udp://127.0.0.1:47999'}})
+                           {'b': {'type': 'ExampleBoard', 'endpoint': 'udp://127.0.0.1:27999'}})
         self.assertNotEqual(rc, 0)
         self.assertIn('missing required parameter /no_rate/b/rate', out)
 

@@ -13,7 +13,7 @@ from std_msgs.msg import String
 
 from can_test_common import CanUdp, Diagnostics, Recorder, value
 
-PORT, NODE = 47014, 13
+PORT, NODE = 27014, 13
 
 
 class HmiBoardTest(unittest.TestCase):

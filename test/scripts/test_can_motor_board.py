@@ -13,7 +13,7 @@ from robot_sim.msg import CanFirmware
 
 from can_test_common import CanUdp, Diagnostics, Recorder, ERR_BUSOFF, ERR_RESTARTED, truth_value, value
 
-PORT, NODE = 47010, 10
+PORT, NODE = 27010, 10
 
 
 def signed(u):

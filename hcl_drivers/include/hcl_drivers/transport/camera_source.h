@@ -2,7 +2,7 @@
 //   "0", "1", ...          V4L2 device index (/dev/videoN), the robot's USB webcams
 //   "/dev/video0"          V4L2 device path
 //   anything else          a URL or file OpenCV opens itself (FFmpeg/GStreamer backends),
-//                          e.g. the simulator's MJPEG stream http://127.0.0.1:47220/camera.mjpg
+//                          e.g. the simulator's MJPEG stream http://127.0.0.1:27220/camera.mjpg
 // The same VideoCapture path serves all of them; only the string differs.
 #pragma once
 

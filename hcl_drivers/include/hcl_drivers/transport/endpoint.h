@@ -1,5 +1,5 @@
 // Where a bus is: parsed from the URL-like per-bus parameter, e.g.
-//   udp://127.0.0.1:47100   socketcan://can0   /dev/i2c-1   sim:///run/robot_sim/i2c-1
+//   udp://127.0.0.1:27100   socketcan://can0   /dev/i2c-1   sim:///run/robot_sim/i2c-1
 #pragma once
 
 #include <cstdint>

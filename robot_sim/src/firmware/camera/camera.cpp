@@ -4,7 +4,7 @@
 // A V4L2 device cannot be emulated without a kernel module (v4l2loopback); the stream is
 // the closest VideoCapture path, and the driver code above VideoCapture is identical.
 //
-// Parameters: ~port (TCP port on 127.0.0.1, e.g. 47220), ~fps (default 10, wall clock),
+// Parameters: ~port (TCP port on 127.0.0.1, e.g. 27220), ~fps (default 10, wall clock),
 //   ~mount ("top" | "front"), ~width ~height (default 320x240), ~x ~z ~pitch ~hfov (front mount),
 //   ~quality (JPEG, default 85).
 // Without a world it renders an empty table with the robot at its start (0.25, 0.25).
