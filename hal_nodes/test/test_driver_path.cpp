@@ -74,25 +74,7 @@ TEST(PathFollower, SixCheckpointsWithin30mmOfTheCurve) {
   }
 }
 
-// Logion's driver configuration (config/logion.yaml) and the path of driver_sim_logion, whose
-// checkpoint (2.5, 1.5) the curve leaves almost backwards: a bend of ~2 cm radius taken at ~3 cm/s.
-// Over a range of actuation lags around Logion's (HBmotor loop over I2C, motor time constant
-// ~0.08 s) the robot stays within 22 mm of the curve. With heading feedback proportional to the
-// speed only (heading_correction_speed 0) the heading lagged the tangent by 20-30 deg at that
-// checkpoint and the way out ran 23-30 mm off the curve for 8 of these 16 lags (now 18.3 mm at most).
-AutopilotConfig logionConfig() {
-  AutopilotConfig cfg;
-  cfg.speed_curve = {0.35, 0.7};
-  cfg.turn_curve = {0.5, 0.8};
-  cfg.limits.max_linear_speed = 0.4;
-  cfg.limits.max_angular_speed = 2.5;
-  cfg.limits.max_linear_accel = 0.8;
-  cfg.limits.max_angular_accel = 5.0;
-  cfg.limits.max_wheel_speed = 0.65;
-  cfg.limits.track_width = 0.28;
-  return cfg;
-}
-
+// Logion's path settings (config/logion.yaml, hal/driver/path).
 PathFollowerConfig logionPathConfig() {
   PathFollowerConfig pcfg;
   pcfg.max_lateral_accel = 0.18;
@@ -100,6 +82,12 @@ PathFollowerConfig logionPathConfig() {
   return pcfg;
 }
 
+// Logion's driver configuration (config/logion.yaml) and the path of driver_sim_logion, whose
+// checkpoint (2.5, 1.5) the curve leaves almost backwards: a bend of ~2 cm radius taken at ~3 cm/s.
+// Over a range of actuation lags around Logion's (HBmotor loop over I2C, motor time constant
+// ~0.08 s) the robot stays within 22 mm of the curve. With heading feedback proportional to the
+// speed only (heading_correction_speed 0) the heading lagged the tangent by 20-30 deg at that
+// checkpoint and the way out ran 23-30 mm off the curve for 8 of these 16 lags (now 18.3 mm at most).
 TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
   const AutopilotConfig cfg = logionConfig();
   const PathFollowerConfig pcfg = logionPathConfig();

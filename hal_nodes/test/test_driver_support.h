@@ -1,4 +1,4 @@
-// Shared by the driver's gtests: a robot config like the 2009 robot's, and a closed loop of a
+// Shared by the driver's gtests: a robot config like the 2009 robot's, Logion's, and a closed loop of a
 // controller, the VelocityLimiter and the KinematicModel that records what a test asserts on.
 #pragma once
 
@@ -26,6 +26,22 @@ inline AutopilotConfig robotConfig() {
   c.limits.max_angular_accel = 6.0;
   c.limits.max_wheel_speed = 0.6;
   c.limits.track_width = 0.3;
+  c.turn_in_place_angle = 0.6;
+  c.near_radius = 0.04;
+  return c;
+}
+
+// Logion's (config/logion.yaml, hal/driver): slower, with more actuation lag than the 2009 robot.
+inline AutopilotConfig logionConfig() {
+  AutopilotConfig c;
+  c.speed_curve = {0.35, 0.7};
+  c.turn_curve = {0.5, 0.8};
+  c.limits.max_linear_speed = 0.4;
+  c.limits.max_angular_speed = 2.5;
+  c.limits.max_linear_accel = 0.8;
+  c.limits.max_angular_accel = 5.0;
+  c.limits.max_wheel_speed = 0.65;
+  c.limits.track_width = 0.28;
   c.turn_in_place_angle = 0.6;
   c.near_radius = 0.04;
   return c;
