@@ -18,6 +18,7 @@ taken camera port stops the simulator.
 """
 import argparse
 import os
+import random
 import shutil
 import signal
 import socket
@@ -103,7 +104,6 @@ def free_port(kind):
     """A UDP or TCP port on loopback nobody holds now (this run's emulators bind it), from the
     project's 28000-28999: below the ephemeral range, so no outgoing connection takes it
     between this check and the emulator's bind (see the README, launch arguments)."""
-    import random
     for port in random.sample(range(28000, 29000), 1000):
         s = socket.socket(socket.AF_INET, kind)
         try:

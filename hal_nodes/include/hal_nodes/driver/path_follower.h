@@ -50,7 +50,6 @@ class PathFollower {
 
   bool done() const { return done_; }
   bool active() const { return !samples_.empty() && !done_; }
-  bool finishingOnThePoint() const { return finishing_; }  // the Autopilot closes the last gap
   double remaining() const { return remaining_; }        // arc length left [m]
   double crossTrackError() const { return cross_track_; }  // distance to the curve [m]
   double progressPercent() const;
