@@ -105,6 +105,18 @@ class MotorBoardTest(unittest.TestCase):
         s = self.diag.wait_status('/hcl/motor_board', lambda s: s.level == DiagnosticStatus.OK, 5.0)
         self.assertEqual(s.level, DiagnosticStatus.OK, s.message)
 
+    def test_6b_a_bus_off_shorter_than_the_report_period_is_still_reported(self):
+        # The controller restarts 50 ms after going bus-off: between two 1 Hz diagnostics reports.
+        self.assertIsNotNone(self.diag.wait_status('/hcl/motor_board', lambda s: s.level == DiagnosticStatus.OK, 5.0))
+        self.bus.send(ERR_BUSOFF, dlc=8, error=True)
+        time.sleep(0.05)
+        self.bus.send(ERR_RESTARTED, dlc=8, error=True)
+        s = self.diag.wait_status('/hcl/motor_board', lambda s: 'bus-off' in s.message, 3.0)
+        self.assertIsNotNone(s, 'a short bus-off never reached /diagnostics')
+        self.assertGreaterEqual(s.level, DiagnosticStatus.ERROR)
+        s = self.diag.wait_status('/hcl/motor_board', lambda s: s.level == DiagnosticStatus.OK, 5.0)
+        self.assertEqual(s.level, DiagnosticStatus.OK, s.message)
+
     def test_7_the_firmware_watchdog_stops_the_motor_without_a_driver(self):
         rosnode.kill_nodes(['/hcl'])
         time.sleep(1.0)

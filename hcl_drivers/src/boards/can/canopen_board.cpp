@@ -244,6 +244,10 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("bus malformed datagrams", bs.malformed);
   stat.add("bus queue overruns", bs.overruns);
   if (!bs.last_error.empty()) stat.add("bus last error", bs.last_error);
+  if (bs.bus_off_count > bus_off_reported_ && bs.state != BusState::kBusOff)
+    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "CAN bus %s was bus-off since the last report (now %s)",
+                       bus_->url().c_str(), transport::toString(bs.state));
+  bus_off_reported_ = bs.bus_off_count;
   diagnoseBoard(stat);
 }
 

@@ -105,6 +105,9 @@ class CanopenBoard : public Board {
   bool was_answering_ = false;
   std::atomic<unsigned long> refused_{0};
   transport::BusState last_bus_state_ = transport::BusState::kErrorActive;
+  // Bus-off events already shown on /diagnostics. A bus-off the controller recovers from within
+  // a second falls between two 1 Hz reports; the next report still says it happened.
+  unsigned long bus_off_reported_ = 0;
   std::mutex status_mutex_;  // node counters copied for diagnostics/state
   CanNodeStatus status_copy_;
 };
