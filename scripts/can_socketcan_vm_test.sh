@@ -6,25 +6,21 @@
 # that candump saw our NMT, SDO, RTR and PDO frames, and that the injected PDO reached the
 # board's state topic. Where the kernel has AF_CAN and vcan, the inner script runs directly.
 #
-#   scripts/can_socketcan_vm_test.sh [junit.xml] [devel space] [auto]     (as root)
-# Needs (installed here on demand, only when the VM runs; `make deps` does not install them):
-# linux-image-amd64, qemu-system-x86, busybox-static, python3-venv, virtme-ng (pip, into
-# build/can_vm_venv).
+#   scripts/can_socketcan_vm_test.sh [junit.xml] [devel space]     (as root; make test runs it)
+# The VM needs linux-image-amd64, qemu-system-x86, busybox-static and virtme-ng (pip, into
+# build/can_vm_venv): scripts/can_vm_prepare.sh installs them, only on a machine that needs the
+# VM (`make test` starts it in the background before building; `make deps` does not install them).
+# CAN_VM_TEST=0 turns the VM off (the test is then reported skipped with that reason).
 # This host exposes no hardware virtualisation to us (/dev/kvm but no vmx/svm: KVM fails), so
-# the VM runs in software emulation: ~2 min to boot to vcan0 on an idle machine, 4-7 min with
-# ROS inside on a loaded one. Measured 2026-11-23 (load average 19 falling to 4): 575 s in all;
-# in the guest vcan0 was up at 103 s, rosmaster answered at 164 s, the nodes started at 169 s.
-# A second run at load average 4-7: the VM took 208 s (nodes started at 60 s, checks done at 171 s).
-# It swings from 3.5 to 10 min with the machine's load, so it stays opt-in rather than risk the
-# default `make test` (whole suite ~14 min) on a loaded CI machine.
-# With `auto` (how `make test` calls it) the VM only runs when
-# CAN_VM_TEST=1; otherwise the test is reported as skipped with that reason. On a kernel with
-# AF_CAN + vcan it always runs, directly on vcan0, in seconds.
+# the VM runs in software emulation. Measured 2026-11-25 on an idle 2-core machine: 103 s in all
+# (vcan0 up at 27 s of guest time, rosmaster at 46 s, checks done at 90 s); the install adds
+# about 1.5 min the first time (pip, apt). Slow parts are Python starts under emulation: the
+# inner script starts rosmaster first and runs our executables without rosrun. On a loaded
+# machine it took 3.5-10 min (2026-11-23, before those changes); vng stops it after 10 min.
 set -u
 root=$(cd "$(dirname "$0")/.." && pwd)
 xml=${1:-$root/build/test_results/system_tests/can_socketcan_vm.xml}
 devel=${2:-$root/devel}
-mode=${3:-always}
 inner=$root/test/scripts/can_socketcan_vm_inner.sh
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 mkdir -p "$(dirname "$xml")"
@@ -51,37 +47,27 @@ finish() {
   exit 0
 }
 
-have_af_can() { python3 -c 'import socket; socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)' 2>/dev/null; }
-
-if have_af_can && modprobe vcan 2>/dev/null && ! ip link show vcan0 >/dev/null 2>&1; then
-  echo "this kernel has AF_CAN and vcan: running on vcan0 directly"
-  bash "$inner" "$out" "$devel"
-  ip link del vcan0 2>/dev/null
-elif [ "$mode" = auto ] && [ "${CAN_VM_TEST:-0}" != 1 ]; then
-  junit socketcan_vcan0 skip "no AF_CAN in this kernel; the VM test takes minutes in software emulation: run scripts/can_socketcan_vm_test.sh or set CAN_VM_TEST=1"
-  finish
-else
-  kernel=$(ls /boot/vmlinuz-* 2>/dev/null | sort -V | tail -n 1)
-  if [ -z "$kernel" ] || ! command -v qemu-system-x86_64 >/dev/null || ! command -v busybox >/dev/null ||
-     ! dpkg -s python3-venv >/dev/null 2>&1; then
-    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-        linux-image-amd64 qemu-system-x86 busybox-static python3-venv; } >/dev/null 2>&1
+prepared=$(bash "$root/scripts/can_vm_prepare.sh")  # waits for make test's background install
+echo "can_vm_prepare: $prepared"
+case "$prepared" in
+  "not needed: this kernel"*)
+    echo "this kernel has AF_CAN and vcan: running on vcan0 directly"
+    bash "$inner" "$out" "$devel"
+    ip link del vcan0 2>/dev/null ;;
+  "not needed: CAN_VM_TEST=0"*)
+    junit socketcan_vcan0 skip "CAN_VM_TEST=0: this kernel cannot give us a vcan0 and the VM that would was turned off"
+    finish ;;
+  ready)
     kernel=$(ls /boot/vmlinuz-* 2>/dev/null | sort -V | tail -n 1)
-  fi
-  venv=$root/build/can_vm_venv
-  if [ ! -x "$venv/bin/vng" ]; then
-    python3 -m venv "$venv" >/dev/null 2>&1 && "$venv/bin/pip" install -q virtme-ng >/dev/null 2>&1
-  fi
-  if [ -z "$kernel" ] || [ ! -x "$venv/bin/vng" ] || ! command -v qemu-system-x86_64 >/dev/null; then
-    junit vm_boot skip "no VM possible here: kernel=${kernel:-none}, vng=$([ -x "$venv/bin/vng" ] && echo yes || echo no), qemu=$(command -v qemu-system-x86_64 || echo no)"
-    finish
-  fi
-  echo "booting $kernel in virtme-ng (software emulation)"
-  # KVM fails on this host (MSR error): software emulation, slower but reliable.
-  PATH=$venv/bin:$PATH timeout 600 vng --disable-kvm --memory 1G --rwdir="$out" --run "$kernel" \
-    --exec "bash $inner $out $devel" > "$out/vng.log" 2>&1
-  echo "vng exit $? after $(( $(date +%s) - t0 )) s"
-fi
+    echo "booting $kernel in virtme-ng (software emulation)"
+    # KVM fails on this host (MSR error): software emulation, slower but reliable.
+    PATH=$root/build/can_vm_venv/bin:$PATH timeout 600 vng --disable-kvm --memory 1G --rwdir="$out" --run "$kernel" \
+      --exec "bash $inner $out $devel" > "$out/vng.log" 2>&1
+    echo "vng exit $? after $(( $(date +%s) - t0 )) s" ;;
+  *)
+    junit vm_boot skip "no VM possible here: $prepared"
+    finish ;;
+esac
 
 if [ ! -f "$out/result" ]; then
   junit vm_boot 1 "the VM did not run the test: $(tail -n 3 "$out/vng.log" 2>/dev/null | tr '\n' ' ')"

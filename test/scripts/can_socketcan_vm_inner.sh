@@ -14,15 +14,18 @@ mkdir -p /tmp/ros
 exec > "$out/inner.log" 2>&1
 log() { echo "[$(cut -d' ' -f1 /proc/uptime)] $*"; }
 ip link set lo up
-modprobe vcan && ip link add vcan0 type vcan && ip link set up vcan0 || { log "no vcan"; echo "vcan=fail" > "$out/result"; exit 1; }
-log "vcan0 up: $(ip -brief link show vcan0)"
-candump -L vcan0 > "$out/candump.log" &
 set +u  # setup.bash reads unset variables
 # shellcheck disable=SC1091
 source "$devel/setup.bash"
 export ROS_MASTER_URI=http://127.0.0.1:11611 ROS_HOSTNAME=127.0.0.1
+# Software emulation makes every Python start slow (rosmaster ~40 s): start it first, while
+# vcan0 comes up.
 rosmaster --core -p 11611 > /tmp/ros/master.log 2>&1 &
-for _ in $(seq 1 600); do (echo > /dev/tcp/127.0.0.1/11611) 2>/dev/null && break; sleep 0.1; done
+modprobe vcan && ip link add vcan0 type vcan && ip link set up vcan0 || { log "no vcan"; echo "vcan=fail" > "$out/result"; exit 1; }
+log "vcan0 up: $(ip -brief link show vcan0)"
+candump -L vcan0 > "$out/candump.log" &
+candump_pid=$!
+for _ in $(seq 1 1200); do (echo > /dev/tcp/127.0.0.1/11611) 2>/dev/null && break; sleep 0.1; done
 log "master up"
 cat > /tmp/params.yaml <<'YAML'
 hcl:
@@ -41,13 +44,14 @@ log "params loaded"
     case "$line" in *"194#R"*) cansend vcan0 194#05000F03 ;; esac
   done
 ) &
-rosrun robot_sim firmware_host __name:=firmware > /tmp/ros/firmware.log 2>&1 &
-rosrun hcl_drivers hcl_node __name:=hcl > /tmp/ros/hcl.log 2>&1 &
+# The executables directly: rosrun would spend tens of seconds in Python finding them.
+"$devel/lib/robot_sim/firmware_host" __name:=firmware > /tmp/ros/firmware.log 2>&1 &
+"$devel/lib/hcl_drivers/hcl_node" __name:=hcl > /tmp/ros/hcl.log 2>&1 &
 log "nodes started"
 python3 "$here/can_socketcan_vm_check.py" > "$out/check.txt" 2>&1
 rc=$?
 log "check rc=$rc"
 sleep 0.5
-kill %1 2>/dev/null
+kill "$candump_pid" 2>/dev/null && wait "$candump_pid" 2>/dev/null  # candump flushes its log as it exits
 cp /tmp/ros/*.log "$out/" 2>/dev/null
 echo "check=$rc" > "$out/result"
