@@ -3,8 +3,9 @@
 The SHARPs and SRF02s see the table's borders as well as the opponent; a robot in its start
 zone or near a wall would otherwise stop for a wall forever. From the sensor's pose in `map`
 (tf: map -> the Range message's frame) the distance to the border is taken over rays across
-the sensor's cone; an echo at least that far (less `tolerance`) is the border. Without a
-pose (no tf yet) nothing is explained away: an unknown echo still stops the robot.
+the sensor's cone; an echo at least that far (less `tolerance`) is the border. The pose is
+the one at the reading's stamp (when the sensor measured), the latest if tf has none there.
+Without a pose (no tf yet) nothing is explained away: an unknown echo still stops the robot.
 """
 import math
 
@@ -35,21 +36,36 @@ def border_distance(x, y, heading, field_of_view, length, width, rays=9):
 
 
 class BorderEcho(object):
-    def __init__(self, length, width, tolerance, map_frame='map', tf_timeout=0.05):
+    def __init__(self, length, width, tolerance, map_frame='map', tf_timeout=0.05, buffer=None):
+        """`buffer`: a tf2_ros.Buffer to read poses from (tests); by default one fed by a listener."""
         import tf2_ros
         import rospy
         self.length, self.width, self.tolerance = float(length), float(width), float(tolerance)
         self.map_frame = map_frame
         self._timeout = rospy.Duration(tf_timeout)
-        self._buffer = tf2_ros.Buffer()
-        self._listener = tf2_ros.TransformListener(self._buffer)
+        if buffer is None:
+            buffer = tf2_ros.Buffer()
+            self._listener = tf2_ros.TransformListener(buffer)
+        self._buffer = buffer
+
+    def _sensor_pose(self, msg):
+        """The sensor's transform in map when it measured (the Range's stamp), else the latest.
+
+        An SRF02 reading reaches the brain ~0.14 s after its ping: a robot turning in place near
+        a wall has turned 5-10 deg since, and the border seen from its pose now is a wall the
+        ping never saw (the opponent_ahead trigger fired on such echoes in homologation)."""
+        stamps = [msg.header.stamp] if not msg.header.stamp.is_zero() else []
+        for stamp in stamps + [type(msg.header.stamp)()]:  # the measurement time, then the latest
+            try:
+                return self._buffer.lookup_transform(self.map_frame, msg.header.frame_id, stamp, self._timeout)
+            except Exception:
+                continue
+        return None
 
     def explains(self, msg):
-        """True when the Range message's echo is (about) where the border is."""
-        import rospy
-        try:
-            t = self._buffer.lookup_transform(self.map_frame, msg.header.frame_id, rospy.Time(0), self._timeout)
-        except Exception:
+        """True when the Range message's echo is (about) where the border was when it measured."""
+        t = self._sensor_pose(msg)
+        if t is None:
             return False
         q = t.transform.rotation
         heading = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
