@@ -8,7 +8,8 @@
 #   scripts/can_vm_prepare.sh              install now (waits for a background run to finish)
 #   scripts/can_vm_prepare.sh --background start installing and return at once (make test does
 #                                          this before building: the downloads overlap the build)
-# Prints one line: "ready", "not needed: ..." or "missing: ..."; the log is build/can_vm_prepare.log.
+# Prints one line: "ready: <the VM kernel>", "not needed: ..." or "missing: ..."; the log is
+# build/can_vm_prepare.log.
 set -u
 root=$(cd "$(dirname "$0")/.." && pwd)
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -54,4 +55,4 @@ fi
 flock "$lock" bash -c "$(declare -f missing vm_kernel install); venv='$venv'; install" >> "$log" 2>&1
 m=$(missing)
 if [ -n "$m" ]; then echo "missing:$m (see $log)"; exit 1; fi
-echo "ready"
+echo "ready: $(vm_kernel)"

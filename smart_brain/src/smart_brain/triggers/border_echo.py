@@ -54,13 +54,18 @@ class BorderEcho(object):
         An SRF02 reading reaches the brain ~0.14 s after its ping: a robot turning in place near
         a wall has turned 5-10 deg since, and the border seen from its pose now is a wall the
         ping never saw (the opponent_ahead trigger fired on such echoes in homologation)."""
-        stamps = [msg.header.stamp] if not msg.header.stamp.is_zero() else []
-        for stamp in stamps + [type(msg.header.stamp)()]:  # the measurement time, then the latest
-            try:
-                return self._buffer.lookup_transform(self.map_frame, msg.header.frame_id, stamp, self._timeout)
-            except Exception:
-                continue
-        return None
+        import rospy
+        if not msg.header.stamp.is_zero():
+            t = self._lookup(msg.header.frame_id, msg.header.stamp)
+            if t is not None:
+                return t
+        return self._lookup(msg.header.frame_id, rospy.Time(0))
+
+    def _lookup(self, frame, stamp):
+        try:
+            return self._buffer.lookup_transform(self.map_frame, frame, stamp, self._timeout)
+        except Exception:
+            return None
 
     def explains(self, msg):
         """True when the Range message's echo is (about) where the border was when it measured."""
