@@ -404,6 +404,111 @@ TEST(OdometryInput, PairsAreAveragedByReliability) {
   EXPECT_THROW(odo.pairIndex("none"), std::out_of_range);
 }
 
+// 0.5 m/s at 100 Hz, stamped, with a quiet motion model (slip detection on by default).
+void feedSteady(OdometryInput& odo, std::size_t pair, double from, int steps, double speed = 0.5) {
+  for (int k = 1; k <= steps; ++k) odo.addIncrement(pair, {speed * 0.01, 0.0, 0.0}, from + 0.01 * k);
+}
+
+TEST(OdometryInput, TravelTheRobotCannotHaveMadeIsASlip) {
+  OdometryInput odo({{"wheels", 1.0}}, MotionModel{0, 0, 0, 0, 0, 0, 0, 0});
+  ParticleSet s = makeSet({{0, 0, 0}});
+  Rng rng(1);
+  StepContext ctx;
+  ctx.rng = &rng;
+  feedSteady(odo, 0, 0.0, 10);
+  odo.advance(s, ctx);
+  EXPECT_NEAR(s.x[0], 0.05, 1e-12);
+  EXPECT_EQ(odo.slips(), 0u);
+  // A wheel spins: 8 mm more in 10 ms than 5 mm at 0.5 m/s (a 0.8 m/s jump; 5 m/s^2 allows 0.05).
+  odo.addIncrement(0, {0.013, 0.0, 0.0}, 0.11);
+  EXPECT_EQ(odo.slips(), 1u);
+  EXPECT_NEAR(odo.pending().x, 0.005, 1e-12);  // the robot went on at its speed
+  odo.advance(s, ctx);
+  // Back to normal, and what the robot can do is still accepted: 0.5 -> 0.54 m/s in 10 ms.
+  odo.addIncrement(0, {0.005, 0.0, 0.0}, 0.12);
+  odo.addIncrement(0, {0.0054, 0.0, 0.0}, 0.13);
+  EXPECT_EQ(odo.slips(), 1u);
+  // Stopping dead (a collision) is what the robot did, not a slip.
+  odo.addIncrement(0, {0.0, 0.0, 0.0}, 0.14);
+  EXPECT_EQ(odo.slips(), 1u);
+  odo.advance(s, ctx);
+  EXPECT_NEAR(s.x[0], 0.05 + 0.005 + 0.005 + 0.0054, 1e-12);
+  // Backwards the same: a spin is too much travel either way.
+  OdometryInput back({{"wheels", 1.0}}, MotionModel{0, 0, 0, 0, 0, 0, 0, 0});
+  feedSteady(back, 0, 0.0, 5, -0.5);
+  back.addIncrement(0, {-0.02, 0.0, 0.0}, 0.06);
+  EXPECT_EQ(back.slips(), 1u);
+  EXPECT_NEAR(back.pending().x, -0.03, 1e-12);  // 5 x -5 mm, then -5 mm instead of -20
+  // A robot really pushed from rest to 1 m/s is followed again once it can have got there
+  // (5 m/s^2: 0.2 s), not held at rest.
+  OdometryInput pushed({{"wheels", 1.0}}, MotionModel{0, 0, 0, 0, 0, 0, 0, 0});
+  feedSteady(pushed, 0, 0.0, 5, 0.0);
+  feedSteady(pushed, 0, 0.05, 30, 1.0);
+  const std::size_t slipping = pushed.slips();
+  EXPECT_GE(slipping, 15u);
+  EXPECT_LE(slipping, 22u);
+  feedSteady(pushed, 0, 0.35, 10, 1.0);
+  EXPECT_EQ(pushed.slips(), slipping);
+  // Stamped on reception: one increment 8 ms late, the next 2 ms after it, each with 10 ms
+  // of travel at 1 m/s. Neither is a slip.
+  const double before = pushed.pending().x;
+  pushed.addIncrement(0, {0.01, 0.0, 0.0}, 0.468);
+  pushed.addIncrement(0, {0.01, 0.0, 0.0}, 0.470);
+  EXPECT_EQ(pushed.slips(), slipping);
+  EXPECT_NEAR(pushed.pending().x - before, 0.02, 1e-9);
+}
+
+TEST(OdometryInput, NoSlipDetectionWithoutStampsOrWhenDisabled) {
+  OdometryInput unstamped({{"wheels", 1.0}}, MotionModel{0, 0, 0, 0, 0, 0, 0, 0});
+  for (int k = 0; k < 10; ++k) unstamped.addIncrement(0, {0.005, 0.0, 0.0});
+  unstamped.addIncrement(0, {0.013, 0.0, 0.0});
+  EXPECT_EQ(unstamped.slips(), 0u);
+  MotionModel off{0, 0, 0, 0, 0, 0, 0, 0};
+  off.slip_accel = 0.0;
+  OdometryInput disabled({{"wheels", 1.0}}, off);
+  feedSteady(disabled, 0, 0.0, 10);
+  disabled.addIncrement(0, {0.013, 0.0, 0.0}, 0.11);
+  EXPECT_EQ(disabled.slips(), 0u);
+  EXPECT_NEAR(disabled.pending().x, 0.063, 1e-12);
+  MotionModel bad;
+  bad.slip_margin = -0.001;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
+}
+
+TEST(OdometryInput, ASlippingPairIsOutvotedAndASlipSpreadsEveryHeading) {
+  MotionModel m{0, 0, 0, 0, 0, 0, 0, 0.02};  // only the slip's heading noise
+  OdometryInput odo({{"drive", 1.0}, {"idle", 0.5}}, m);
+  const std::size_t drive = odo.pairIndex("drive"), idle = odo.pairIndex("idle");
+  feedSteady(odo, drive, 0.0, 10);
+  feedSteady(odo, idle, 0.0, 10);
+  ParticleSet s;
+  s.resize(2000);
+  for (std::size_t i = 0; i < s.size(); ++i) s.x[i] = s.y[i] = s.theta[i] = 0.0;
+  Rng rng(3);
+  StepContext ctx;
+  ctx.rng = &rng;
+  odo.advance(s, ctx);
+  for (std::size_t i = 0; i < s.size(); ++i) ASSERT_EQ(s.theta[i], 0.0);  // no slip, no noise
+  // The driven wheels spin, the measuring pair does not: it alone votes, no slip noise.
+  odo.addIncrement(drive, {0.02, 0.0, 0.0}, 0.11);
+  odo.addIncrement(idle, {0.0051, 0.0, 0.0}, 0.11);
+  EXPECT_NEAR(odo.pending().x, 0.0051, 1e-12);
+  odo.advance(s, ctx);
+  for (std::size_t i = 0; i < s.size(); ++i) ASSERT_EQ(s.theta[i], 0.0);
+  // Both slip: every particle's heading spreads by slip_rot.
+  odo.addIncrement(drive, {0.02, 0.0, 0.0}, 0.12);
+  odo.addIncrement(idle, {0.02, 0.0, 0.0}, 0.12);
+  odo.advance(s, ctx);
+  double var = 0.0;
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    var += s.theta[i] * s.theta[i];
+    moved += s.theta[i] != 0.0;
+  }
+  EXPECT_EQ(moved, s.size());
+  EXPECT_NEAR(std::sqrt(var / s.size()), 0.02, 0.002);
+}
+
 TEST(Kld, BoundGrowsWithOccupiedBins) {
   KldParams p;
   EXPECT_LT(kldBound(2, p), kldBound(20, p));

@@ -93,7 +93,7 @@ struct Rig {
     std::vector<double> err;
     for (std::size_t i = from; i < std::min(to, steps.size()); ++i) {
       const Step& s = steps[i];
-      odom->addIncrement(0, s.odo);
+      odom->addIncrement(0, s.odo, s.t);
       if (s.beacon >= 0) beacons->addRange(s.t, s.beacon, s.range);
       filter->update(s.t);
       const Pose2 e = filter->estimate().pose;
@@ -196,7 +196,16 @@ TEST(Filter, ProbabilityMeansTheEstimateIsRight) {
   EXPECT_GT(right, 550u);
   EXPECT_EQ(right_low, 0u) << "probability below 0.8 while the estimate was right";
   EXPECT_LT(*std::min_element(rig.probability.begin() + 100, rig.probability.begin() + 700), 1.0 + 1e-12);
-  EXPECT_LT(maxOf(rig.probability, 730, 760), 0.2);  // 0.3 s after the kidnap: not right, and says so
+  // From 0.3 s after the kidnap: wherever the estimate is not right, the probability says so
+  // (it may be right again soon: slips found by the odometry keep the cloud tight).
+  std::size_t wrong = 0, wrong_but_sure = 0;
+  for (std::size_t i = 730; i < 800; ++i) {
+    if (err[i] < fc.quality_tolerance) continue;
+    ++wrong;
+    wrong_but_sure += rig.probability[i] >= 0.2;
+  }
+  EXPECT_GE(wrong, 5u);  // the kidnap did put it wrong
+  EXPECT_EQ(wrong_but_sure, 0u);
 }
 
 TEST(Filter, DegradesGracefullyWithABeaconSilenced) {
@@ -220,7 +229,7 @@ TEST(Filter, ReplayWithAFixedSeedIsIdentical) {
   b.filter->globalLocalization();
   for (const auto& s : steps) {
     for (Rig* r : {&a, &b}) {
-      r->odom->addIncrement(0, s.odo);
+      r->odom->addIncrement(0, s.odo, s.t);
       if (s.beacon >= 0) r->beacons->addRange(s.t, s.beacon, s.range);
       r->filter->update(s.t);
     }

@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
   FILE* dump = std::getenv("MCL_BENCH_DUMP") ? std::fopen(std::getenv("MCL_BENCH_DUMP"), "w") : nullptr;
   for (const auto& r : run.rows) {
     const auto t0 = std::chrono::steady_clock::now();
-    odom->addIncrement(0, {r.odo_dx, r.odo_dy, r.odo_dtheta});
+    odom->addIncrement(0, {r.odo_dx, r.odo_dy, r.odo_dtheta}, r.t);  // stamped: slips are found
     if (r.beacon_id >= 0) beacons->addRange(r.t, r.beacon_id, r.range);
     filter.update(r.t);
     const Pose2 p = filter.estimate().pose;
@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
   }
   score.print(mode, static_cast<std::size_t>(particles));
   if (std::getenv("MCL_BENCH_VERBOSE"))
-    std::fprintf(stderr, "resamplings %lu resets %lu learned_range_std %.4f final_particles %zu\n", filter.resamplings(),
-                 filter.resets(), beacons->learnedStd(), filter.particles().size());
+    std::fprintf(stderr, "resamplings %lu resets %lu learned_range_std %.4f final_particles %zu slips %zu\n", filter.resamplings(),
+                 filter.resets(), beacons->learnedStd(), filter.particles().size(), odom->slips());
   return 0;
 }

@@ -13,6 +13,7 @@ import tf2_ros
 from geometry_msgs.msg import PoseArray, PoseWithCovarianceStamped
 from hal_nodes.msg import BeaconRange, LocalizationQuality
 from nav_msgs.msg import Odometry
+from diagnostic_msgs.msg import DiagnosticArray
 from std_srvs.srv import Empty
 from visualization_msgs.msg import MarkerArray
 
@@ -25,10 +26,13 @@ def yaw_of(q):
 
 class ScriptedRobot(object):
     """Weaves over the table at 100 Hz; publishes its odometry (1 % noise, odom frame = start
-    pose offset) at 50 Hz and one beacon range every 30 ms (1 cm noise)."""
+    pose offset, a wheel spinning in 1 % of the steps: 5-10 mm more travel and 0.01 rad more
+    heading than the robot made) at 50 Hz and one beacon range every 30 ms (1 cm noise)."""
 
     def __init__(self):
         self.rnd = random.Random(3)
+        self.slip_rnd = random.Random(4)
+        self.slips = 0  # steps with a wheel spinning so far
         self.lock = threading.Lock()
         self.x, self.y, self.th = 0.3, 1.0, 0.0
         self.ox, self.oy, self.oth = 0.0, 0.0, 0.0  # odometry pose in its odom frame
@@ -82,6 +86,10 @@ class ScriptedRobot(object):
                 self.th = math.remainder(self.th + dth, 2 * math.pi)
                 m_ds = ds * (1 + 0.01 * self.rnd.gauss(0, 1))
                 m_dth = dth + 0.2 * ds * self.rnd.gauss(0, 1)
+                if self.k > 0 and self.slip_rnd.random() < 0.01:
+                    m_ds += self.slip_rnd.uniform(0.005, 0.01)
+                    m_dth += self.slip_rnd.gauss(0, 0.01)
+                    self.slips += 1
                 self.ox += m_ds * math.cos(self.oth + m_dth / 2)
                 self.oy += m_ds * math.sin(self.oth + m_dth / 2)
                 self.oth = math.remainder(self.oth + m_dth, 2 * math.pi)
@@ -126,10 +134,12 @@ class TestMclDevice(unittest.TestCase):
         cls.quality = None
         cls.cloud = None
         cls.belts = None
+        cls.slips_reported = None
         rospy.Subscriber('/mcl/pose', PoseWithCovarianceStamped, cls._on('pose'), queue_size=10)
         rospy.Subscriber('/mcl/quality', LocalizationQuality, cls._on('quality'), queue_size=10)
         rospy.Subscriber('/mcl/particlecloud', PoseArray, cls._on('cloud'), queue_size=1)
         rospy.Subscriber('/mcl/beacon_belts', MarkerArray, cls._on('belts'), queue_size=1)
+        rospy.Subscriber('/diagnostics', DiagnosticArray, cls._on_diagnostics, queue_size=10)
         cls.tf_buffer = tf2_ros.Buffer()
         cls.tf_listener = tf2_ros.TransformListener(cls.tf_buffer)
         cls.robot = ScriptedRobot()
@@ -141,6 +151,15 @@ class TestMclDevice(unittest.TestCase):
             with cls.lock:
                 setattr(cls, name, msg)
         return cb
+
+    @classmethod
+    def _on_diagnostics(cls, msg):
+        for st in msg.status:
+            if 'localization' in st.name:
+                for kv in st.values:
+                    if kv.key == 'wheel slips detected':
+                        with cls.lock:
+                            cls.slips_reported = int(kv.value)
 
     def error(self):
         with self.lock:
@@ -236,6 +255,23 @@ class TestMclDevice(unittest.TestCase):
             time.sleep(0.01)
         self.assertTrue(jumped, '/initialpose was not applied')
         self.assertTrue(self.wait_error_below(0.05, 8.0, hold=1.0), 'not recovered: %.3f m' % self.error()[0])
+
+    def test_5_wheel_slips_are_detected(self):
+        # Every injected slip is more travel than the robot can make in 20 ms (5 m/s^2 and a
+        # 1 mm margin allow ~3 mm over 8 mm): each must be found, and nothing else.
+        deadline = time.monotonic() + 30.0
+        while time.monotonic() < deadline and self.robot.slips < 5:
+            time.sleep(0.1)
+        injected_before = self.robot.slips
+        self.assertGreaterEqual(injected_before, 5, 'the scripted robot did not slip')
+        time.sleep(2.5)  # a diagnostics report (1 Hz) after those
+        with self.lock:
+            reported = self.slips_reported
+        injected_after = self.robot.slips
+        self.assertIsNotNone(reported, "no 'wheel slips detected' on /diagnostics")
+        self.assertGreaterEqual(reported, injected_before)
+        self.assertLessEqual(reported, injected_after)
+        self.assertTrue(self.wait_error_below(0.03, 10.0))
 
 
 if __name__ == '__main__':

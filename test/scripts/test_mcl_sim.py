@@ -71,6 +71,7 @@ class Record(object):
         self.poses = []                    # (stamp, x, y, th) of /mcl/pose
         self.quality = []                  # (stamp, lost, probability)
         self.costs = []                    # (sim time, cost per step [ms]) from /diagnostics
+        self.slips = None                  # the device's count of wheel slips, from /diagnostics
         self.odom = None
         self.beacon_stamps = {}            # beacon id -> stamps of its ranges (HAL beacons device)
         rospy.Subscriber('/sim/ground_truth', Odometry, self._truth, queue_size=200, tcp_nodelay=True)
@@ -115,6 +116,9 @@ class Record(object):
                 if kv.key == 'cost per step [ms]':
                     with self.lock:
                         self.costs.append((rospy.get_time(), float(kv.value)))
+                elif kv.key == 'wheel slips detected':
+                    with self.lock:
+                        self.slips = int(kv.value)
 
     def odom_pose(self):
         with self.lock:
@@ -323,6 +327,8 @@ class McLSimTest(unittest.TestCase):
             f['cost_per_step_ms_p99'] = '%.3f' % percentile(costs, 99)
             f['cost_per_step_ms_max'] = '%.3f' % max(costs)
             f['cost_samples'] = str(len(costs))
+        if self.rec.slips is not None:
+            f['wheel_slips_detected'] = str(self.rec.slips)  # since the device started
         if cpu0 is not None:
             f['hal_node_cpu_percent'] = '%.1f' % (100.0 * (process_cpu_seconds(self.hal_pid) - cpu0) / wall)
         print('tracking: %.2f m in %.1f s from (%.2f, %.2f) to (%.2f, %.2f): RMSE %.1f mm, max %.1f mm at +%.1f s, '

@@ -26,7 +26,7 @@
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
 //   ~odom_topic [/odom]  ~pairs/<name>/{topic, reliability}: encoder pairs (else /odom alone)
 //   ~motion/{trans_per_trans, trans_per_rot, lateral_per_trans, rot_per_trans, rot_per_rot,
-//            slip_probability, slip_trans, slip_rot}
+//            slip_probability, slip_trans, slip_rot, slip_accel [5 m/s^2, 0: no detection], slip_margin [0.001 m]}
 //   ~beacons/{enabled [true], topic [/hal/beacons/ranges], reliability [1], range_std [0.015],
 //             use_measurement_variance [true], range_std_auto [false], outlier_probability [0.05],
 //             outlier_span [0.6], intersection_gain [4], intersection_below [0.5], belt_max_age [0.25],
@@ -210,10 +210,13 @@ class LocalizationDevice : public Device {
         {"trans_per_trans", &mm.trans_per_trans}, {"trans_per_rot", &mm.trans_per_rot},
         {"lateral_per_trans", &mm.lateral_per_trans}, {"rot_per_trans", &mm.rot_per_trans},
         {"rot_per_rot", &mm.rot_per_rot}, {"slip_probability", &mm.slip_probability},
-        {"slip_trans", &mm.slip_trans}, {"slip_rot", &mm.slip_rot}};
+        {"slip_trans", &mm.slip_trans}, {"slip_rot", &mm.slip_rot}, {"slip_accel", &mm.slip_accel},
+        {"slip_margin", &mm.slip_margin}};
     for (const auto& m : motion) {
       *m.second = sub(pnh, "motion", m.first, *m.second);
-      requireInRange(pnh, std::string("motion/") + m.first, *m.second, 0.0, m.first == std::string("slip_probability") ? 1.0 : 10.0);
+      const std::string name = m.first;
+      requireInRange(pnh, "motion/" + name, *m.second, 0.0,
+                     name == "slip_probability" ? 1.0 : name == "slip_accel" ? 100.0 : 10.0);
     }
     const std::string odom_topic = optionalString(pnh, "odom_topic", "/odom");
     std::vector<mcl::OdometryInput::Pair> pairs;
@@ -453,6 +456,7 @@ class LocalizationDevice : public Device {
     stat.add("filter steps", updates_);
     stat.add("resamplings", filter_->resamplings());
     stat.add("resets (sensor resetting)", filter_->resets());
+    stat.add("wheel slips detected", odom_->slips());
     stat.add("cost per step [ms]", cost_ms_);
     stat.add("max cost per step [ms]", cost_max_ms_);
     stat.add("events dropped (queue full)", events_.dropped());
@@ -488,7 +492,7 @@ class LocalizationDevice : public Device {
         odom_pose_ = q;
         odom_stamp_ = stamp;
         have_odom_ = true;
-        if (!use_pairs_) odom_->addPose(0, q);
+        if (!use_pairs_) odom_->addPose(0, q, stamp);
         return true;
       }
       case Payload::kPair: {
@@ -497,7 +501,7 @@ class LocalizationDevice : public Device {
           ++bad_inputs_;
           return false;
         }
-        odom_->addPose(static_cast<std::size_t>(p.index), q);
+        odom_->addPose(static_cast<std::size_t>(p.index), q, stamp);
         return false;  // the primary odometry of the same stamp makes the step
       }
       case Payload::kBeacon:

@@ -10,7 +10,7 @@ void MotionModel::validate() const {
   const std::pair<const char*, double> fields[] = {
       {"trans_per_trans", trans_per_trans}, {"trans_per_rot", trans_per_rot}, {"lateral_per_trans", lateral_per_trans},
       {"rot_per_trans", rot_per_trans},     {"rot_per_rot", rot_per_rot},     {"slip_trans", slip_trans},
-      {"slip_rot", slip_rot}};
+      {"slip_rot", slip_rot}, {"slip_accel", slip_accel}, {"slip_margin", slip_margin}};
   for (const auto& f : fields)
     if (!(f.second >= 0.0) || !std::isfinite(f.second))
       throw std::invalid_argument(std::string(f.first) + " = " + std::to_string(f.second) + ": must be >= 0");
@@ -18,7 +18,7 @@ void MotionModel::validate() const {
     throw std::invalid_argument("slip_probability = " + std::to_string(slip_probability) + ": must be in [0, 1]");
 }
 
-void MotionModel::apply(ParticleSet& set, const Pose2& d, Rng& rng) const {
+void MotionModel::apply(ParticleSet& set, const Pose2& d, Rng& rng, bool slipping) const {
   const double ads = std::hypot(d.x, d.y), adt = std::fabs(d.theta);
   const double s_trans = trans_per_trans * ads + trans_per_rot * adt;
   const double s_lat = lateral_per_trans * ads;
@@ -27,7 +27,7 @@ void MotionModel::apply(ParticleSet& set, const Pose2& d, Rng& rng) const {
   double* px = set.x.data();
   double* py = set.y.data();
   double* pt = set.theta.data();
-  const bool slips = slip_probability > 0.0 && (ads > 0.0 || adt > 0.0);
+  const bool slips = !slipping && slip_probability > 0.0 && (ads > 0.0 || adt > 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     double ds = d.x + s_trans * rng.gaussian();
     const double dl = d.y + s_lat * rng.gaussian();
@@ -38,6 +38,7 @@ void MotionModel::apply(ParticleSet& set, const Pose2& d, Rng& rng) const {
       ds -= std::copysign(std::fabs(slip_trans * rng.gaussian()), d.x);
       dt += slip_rot * rng.gaussian();
     }
+    if (slipping) dt += slip_rot * rng.gaussian();  // travel already limited by the odometry
     // Mid-point integration of the arc.
     const double a = pt[i] + 0.5 * dt;
     const double c = std::cos(a), s = std::sin(a);

@@ -1,5 +1,7 @@
 #include "hal_nodes/mcl/motion/odometry_input.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace hal_nodes::mcl {
@@ -23,29 +25,69 @@ std::size_t OdometryInput::pairIndex(const std::string& name) const {
   throw std::out_of_range("odometry: no encoder pair named '" + name + "'");
 }
 
-void OdometryInput::addPose(std::size_t pair, const Pose2& odom_pose) {
+void OdometryInput::addPose(std::size_t pair, const Pose2& odom_pose, double stamp) {
   State& s = pairs_.at(pair);
   if (!s.has_ref) {
     s.ref = odom_pose;
     s.has_ref = true;
+    s.stamp = stamp;
     return;
   }
-  addIncrement(pair, between(s.ref, odom_pose));
+  addIncrement(pair, between(s.ref, odom_pose), stamp);
   s.ref = odom_pose;
 }
 
-void OdometryInput::addIncrement(std::size_t pair, const Pose2& delta) {
+void OdometryInput::addIncrement(std::size_t pair, const Pose2& delta, double stamp) {
   State& s = pairs_.at(pair);
-  s.delta = s.moved ? compose(s.delta, delta) : delta;
+  Pose2 d = delta;
+  detectSlip(s, d, stamp);
+  s.delta = s.moved ? compose(s.delta, d) : d;
   s.moved = true;
 }
 
+void OdometryInput::detectSlip(State& s, Pose2& delta, double stamp) {
+  double dt = stamp - s.stamp;  // NaN when either is unknown
+  if (!std::isnan(stamp)) s.stamp = stamp;
+  if (!(model_.slip_accel > 0.0) || !(dt > 0.0)) return;
+  // Stamps taken on reception jitter: a message that came late is followed by one that comes
+  // early with a full period's travel. Judge each increment over at least the usual period.
+  s.period = std::isnan(s.period) ? dt : s.period + 0.1 * (dt - s.period);
+  dt = std::max(dt, s.period);
+  const double travel = std::fabs(delta.x);
+  if (!std::isnan(s.speed)) {
+    // The faster of the last two speeds: one increment that came late (its travel over a
+    // longer time) does not make the next one look too fast.
+    const double speed = std::isnan(s.speed_before) ? std::fabs(s.speed)
+                                                    : std::max(std::fabs(s.speed), std::fabs(s.speed_before));
+    const double possible = (speed + model_.slip_accel * dt) * dt + model_.slip_margin;
+    if (travel > possible) {
+      // The wheel turned further than the robot can have gone: the robot most likely went on
+      // at its speed (lateral part in proportion); the heading is left to the slip's noise.
+      const double keep = speed * dt / travel, direction = delta.x;
+      delta.x *= keep;
+      delta.y *= keep;
+      // The next increment is judged against what the robot can have reached by now, so a
+      // robot really driven (or pushed) faster is followed again after a few increments.
+      s.speed_before = s.speed;
+      s.speed = std::copysign(speed + model_.slip_accel * dt, direction);
+      s.slipped = true;
+      ++slips_;
+      return;
+    }
+  }
+  s.speed_before = s.speed;
+  s.speed = delta.x / dt;
+}
+
 Pose2 OdometryInput::pending() const {
-  // Reliability-weighted average of the pairs that moved (headings are small increments).
+  // Reliability-weighted average of the pairs that moved (headings are small increments); a
+  // slipping pair is outvoted by any pair that moved without slipping.
+  bool any_sound = false;
+  for (const auto& s : pairs_) any_sound |= s.moved && !s.slipped;
   double wsum = 0.0;
   Pose2 d{0, 0, 0};
   for (const auto& s : pairs_) {
-    if (!s.moved) continue;
+    if (!s.moved || (any_sound && s.slipped)) continue;
     wsum += s.cfg.reliability;
     d.x += s.cfg.reliability * s.delta.x;
     d.y += s.cfg.reliability * s.delta.y;
@@ -56,15 +98,19 @@ Pose2 OdometryInput::pending() const {
 }
 
 void OdometryInput::advance(ParticleSet& set, const StepContext& ctx) {
-  bool any = false;
-  for (const auto& s : pairs_) any |= s.moved;
+  bool any = false, all_slipped = true;
+  for (const auto& s : pairs_) {
+    any |= s.moved;
+    if (s.moved) all_slipped &= s.slipped;
+  }
   if (!any) return;
   const Pose2 d = pending();
   for (auto& s : pairs_) {
     s.moved = false;
+    s.slipped = false;
     s.delta = {0, 0, 0};
   }
-  model_.apply(set, d, *ctx.rng);
+  model_.apply(set, d, *ctx.rng, all_slipped);
 }
 
 }  // namespace hal_nodes::mcl
