@@ -27,12 +27,13 @@ void MotionModel::apply(ParticleSet& set, const Pose2& d, Rng& rng, bool slippin
   double* px = set.x.data();
   double* py = set.y.data();
   double* pt = set.theta.data();
-  const bool slips = !slipping && slip_probability > 0.0 && (ads > 0.0 || adt > 0.0);
+  // Slips the odometry did not see: a heavy tail on a slip_probability share of the particles.
+  const bool unseen_slips = !slipping && slip_probability > 0.0 && (ads > 0.0 || adt > 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     double ds = d.x + s_trans * rng.gaussian();
     const double dl = d.y + s_lat * rng.gaussian();
     double dt = d.theta + s_rot * rng.gaussian();
-    if (slips && rng.uniform() < slip_probability) {
+    if (unseen_slips && rng.uniform() < slip_probability) {
       // A slipping wheel turns without moving the robot: the robot went less far than the
       // encoders say (half-normal loss of travel), and its heading is disturbed.
       ds -= std::copysign(std::fabs(slip_trans * rng.gaussian()), d.x);
