@@ -13,15 +13,12 @@ import tf2_ros
 from geometry_msgs.msg import PoseArray, PoseWithCovarianceStamped
 from hal_nodes.msg import BeaconRange, LocalizationQuality
 from nav_msgs.msg import Odometry
-from diagnostic_msgs.msg import DiagnosticArray
 from std_srvs.srv import Empty
 from visualization_msgs.msg import MarkerArray
 
+from hal_test_common import DeviceDiagnostics, value, yaw_of
+
 BEACONS = [(-0.062, -0.062), (-0.062, 2.162), (3.062, 1.05)]
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 class ScriptedRobot(object):
@@ -134,12 +131,11 @@ class TestMclDevice(unittest.TestCase):
         cls.quality = None
         cls.cloud = None
         cls.belts = None
-        cls.slips_reported = None
         rospy.Subscriber('/mcl/pose', PoseWithCovarianceStamped, cls._on('pose'), queue_size=10)
         rospy.Subscriber('/mcl/quality', LocalizationQuality, cls._on('quality'), queue_size=10)
         rospy.Subscriber('/mcl/particlecloud', PoseArray, cls._on('cloud'), queue_size=1)
         rospy.Subscriber('/mcl/beacon_belts', MarkerArray, cls._on('belts'), queue_size=1)
-        rospy.Subscriber('/diagnostics', DiagnosticArray, cls._on_diagnostics, queue_size=10)
+        cls.diagnostics = DeviceDiagnostics()
         cls.tf_buffer = tf2_ros.Buffer()
         cls.tf_listener = tf2_ros.TransformListener(cls.tf_buffer)
         cls.robot = ScriptedRobot()
@@ -151,15 +147,6 @@ class TestMclDevice(unittest.TestCase):
             with cls.lock:
                 setattr(cls, name, msg)
         return cb
-
-    @classmethod
-    def _on_diagnostics(cls, msg):
-        for st in msg.status:
-            if 'localization' in st.name:
-                for kv in st.values:
-                    if kv.key == 'wheel slips detected':
-                        with cls.lock:
-                            cls.slips_reported = int(kv.value)
 
     def error(self):
         with self.lock:
@@ -265,10 +252,11 @@ class TestMclDevice(unittest.TestCase):
         injected_before = self.robot.slips
         self.assertGreaterEqual(injected_before, 5, 'the scripted robot did not slip')
         time.sleep(2.5)  # a diagnostics report (1 Hz) after those
-        with self.lock:
-            reported = self.slips_reported
+        status = self.diagnostics.status('localization')
+        reported = value(status, 'wheel slips detected') if status else None
         injected_after = self.robot.slips
         self.assertIsNotNone(reported, "no 'wheel slips detected' on /diagnostics")
+        reported = int(reported)
         self.assertGreaterEqual(reported, injected_before)
         self.assertLessEqual(reported, injected_after)
         self.assertTrue(self.wait_error_below(0.03, 10.0))
