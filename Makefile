@@ -1,7 +1,8 @@
 # The project's commands. Everything runs as root on Debian bookworm, with Debian's
 # python3 first on PATH (the machine's own python3 has no ROS modules).
-#   make run [ROBOT=eurobot2009]  install, build, run one simulated match headless (also
-#                               logion; skeleton runs until Ctrl-C), print bag and report paths
+#   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1]  install, build, run one simulated
+#                               match headless (also logion; skeleton runs until Ctrl-C), print
+#                               the score (ours, opponent), bag and report paths
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
@@ -15,6 +16,8 @@ export ROS_PYTHON_VERSION := 3
 export ROS_LANG_DISABLE := genlisp:geneus:gennodejs
 
 ROBOT ?= eurobot2009
+STRATEGY ?=
+SEED ?= 1
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 JOBS ?= 2
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -24,6 +27,7 @@ SETUP := source $(ROOT)/devel/setup.bash
 DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   ros-base-dev ros-core-dev libnodelet-dev pluginlib-dev libactionlib-dev python3-actionlib \
   libdiagnostic-updater-dev python3-diagnostic-updater libdiagnostic-msgs-dev python3-diagnostic-msgs \
+  libdiagnostic-aggregator-dev libdiagnostic-aggregator-tools rosdiagnostic \
   libnav-msgs-dev python3-nav-msgs libsensor-msgs-dev python3-sensor-msgs \
   libgeometry-msgs-dev python3-geometry-msgs libvisualization-msgs-dev python3-visualization-msgs \
   libstd-srvs-dev python3-std-srvs libtf2-ros-dev python3-tf2-ros libtf2-geometry-msgs-dev python3-tf2-geometry-msgs \
@@ -54,7 +58,7 @@ build: deps
 	  -DCATKIN_ENABLE_TESTING=ON
 
 run: build
-	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT)
+	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY))
 
 test: deps
 	@bash $(ROOT)/scripts/can_vm_prepare.sh --background

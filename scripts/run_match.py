@@ -4,8 +4,9 @@
     scripts/run_match.py ROBOT [--out DIR] [--strategy NAME] [--seed N] [--real-time-factor F]
 
 Starts launch/ROBOT.launch (simulator, HCL, HAL, brain) with record:=true, waits until the
-brain is waiting for the start and the robot shows the cord inserted (HAL human interface,
-/hal/hmi/input: the "ready: pull cord" a team member reads on the LCD), pulls the start cord
+brain says the robot is ready (every product node runs, every board and device OK: the "ready:
+pull cord" a team member reads on the LCD; until then it prints what is not ready) and the robot
+shows the cord inserted (HAL human interface, /hal/hmi/input), pulls the start cord
 (the simulated cord switch, read by the boards, the HMI device and the brain), follows the
 match clock, stops everything once the brain reports the match ended, and writes the match
 report. Prints where the bag and the report are and the referee's score. Robots without a
@@ -79,7 +80,7 @@ def main():
     launch_log = open(os.path.join(args.out, args.robot + '_launch.log'), 'w')
     proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=os.setsid)
     try:
-        ended = follow_match(args)
+        ended = follow_match(args, proc, launch_log.name)
     finally:
         log('stopping the robot')
         os.killpg(proc.pid, signal.SIGINT)
@@ -116,10 +117,23 @@ def free_port(kind):
     raise RuntimeError('no free port in 28000-28999 on 127.0.0.1')
 
 
-def follow_match(args):
+def launch_ended(proc, launch_log):
+    """None while the launch runs; else why it ended: its FATAL lines and dead required nodes."""
+    if proc.poll() is None:
+        return None
+    with open(launch_log, errors='replace') as f:
+        lines = [l.strip() for l in f if '[FATAL]' in l or 'REQUIRED process' in l]
+    return '; '.join(lines[-4:]) or 'exit code %s' % proc.returncode
+
+
+def follow_match(args, proc, launch_log):
     import rospy
     deadline = time.monotonic() + args.startup_timeout
     while True:  # roslaunch brings the master up
+        why = launch_ended(proc, launch_log)
+        if why:
+            log('not ready: the launch ended before the match: %s' % why)
+            return False
         try:
             rospy.init_node('run_match', anonymous=True, disable_signals=True)
             break
@@ -134,9 +148,19 @@ def follow_match(args):
     def state():
         return status['msg'].state if status['msg'] else None
 
-    while state() != 'waiting_for_start':
+    said = None
+    while not (state() == 'waiting_for_start' and status['msg'].ready):
+        why = launch_ended(proc, launch_log)
+        if why:
+            log('not ready: the launch ended before the match: %s' % why)
+            return False
+        readiness = status['msg'].readiness if status['msg'] else 'not ready: the brain has not reported yet'
+        if readiness != said:
+            log(readiness)
+            said = readiness
         if time.monotonic() > deadline:
-            log('the brain never became ready to start (state %r); see the launch output' % state())
+            log('the robot never became ready in %.0f s (brain: %s, %s); see the launch output'
+                % (args.startup_timeout, state(), readiness))
             return False
         time.sleep(0.5)
     # A team member pulls the cord once the robot shows it inserted: before that the human
@@ -150,7 +174,7 @@ def follow_match(args):
     if not (hmi['msg'] and hmi['msg'].cord_inserted):
         log('WARNING: the robot never showed the start cord inserted (/hal/hmi/input: %s)' %
             ('nothing' if hmi['msg'] is None else 'cord_inserted false'))
-    log('brain ready (strategy %s), cord inserted; pulling the start cord' % status['msg'].strategy)
+    log('ready (strategy %s), cord inserted; pulling the start cord' % status['msg'].strategy)
     from robot_sim.srv import SetSwitch
     rospy.wait_for_service('/sim/set_switch', timeout=30)
     rospy.ServiceProxy('/sim/set_switch', SetSwitch)(name='start_cord', closed=False)
@@ -167,6 +191,10 @@ def follow_match(args):
     deadline = time.monotonic() + args.match_timeout
     last = -10.0
     while state() != 'ended':
+        why = launch_ended(proc, launch_log)
+        if why:
+            log('the launch ended during the match: %s' % why)
+            return False
         if time.monotonic() > deadline:
             log('the match did not end within %.0f s' % args.match_timeout)
             return False
@@ -179,7 +207,8 @@ def follow_match(args):
     try:
         from robot_sim.msg import MatchState
         referee = rospy.wait_for_message('/sim/match', MatchState, timeout=5.0)
-        log('referee (simulator, %s rules): score %d' % (referee.year, referee.score))
+        log('referee (simulator, %s rules, we play %s): score: ours %d, opponent %d'
+            % (referee.year, referee.colour_ours or '?', referee.score_ours, referee.score_opponent))
     except Exception as e:  # the report reads the score from the bag as well
         log('no referee score on /sim/match: %s' % e)
     time.sleep(2.0)  # let the recorder write the last messages

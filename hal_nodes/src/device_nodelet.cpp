@@ -36,6 +36,9 @@ void DeviceNodeletBase::onInit() {
     const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 0.25);
     requirePositive(pnh, "diagnostic_period", diagnostic_period);
     pnh.setParam("diagnostic_period", diagnostic_period);
+    startup_grace_ = optionalDouble(pnh, "startup_grace", 5.0);
+    hcl_drivers::requireInRange(pnh, "startup_grace", startup_grace_, 0.0, 600.0);
+    started_ = ros::Time::now();
 
     device_ = createDevice();
     device_->init(ctx);
@@ -95,7 +98,10 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     const double achieved = meter_.rate();
-    if (!available) {
+    ever_available_ = ever_available_ || available;
+    if (!available && !ever_available_ && (now - started_).toSec() < startup_grace_) {
+      stat.summaryf(DiagnosticStatus::WARN, "starting: %s", reason.c_str());
+    } else if (!available) {
       stat.summaryf(DiagnosticStatus::ERROR, "unavailable: %s", reason.c_str());
     } else if (effector_ && !effector_->active()) {
       stat.summary(DiagnosticStatus::WARN, "deactivated");

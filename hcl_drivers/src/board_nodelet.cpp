@@ -122,7 +122,7 @@ void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   } else if (consecutive_errors_ > 0) {
     stat.summaryf(DiagnosticStatus::ERROR, "last exchange failed: %s", last_error_.c_str());
   } else if (last_good_.isZero()) {
-    stat.summary(DiagnosticStatus::OK, "starting");
+    stat.summary(DiagnosticStatus::WARN, "starting: no answer from the board yet");
   } else if (meter_.count() > 2 && achieved < 0.8 * rate_) {
     stat.summaryf(DiagnosticStatus::WARN, "polling at %.1f Hz, configured %.1f Hz", achieved, rate_);
   } else {

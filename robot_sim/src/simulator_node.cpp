@@ -15,10 +15,12 @@
 // Names below are relative to the node's namespace (/ in the robot launch files), so several
 // simulators can run side by side in a test under different namespaces.
 // Topics: /clock, /sim/ground_truth + /sim/opponent (nav_msgs/Odometry), /sim/elements
-//   (robot_sim/GameElements), /sim/match (robot_sim/MatchState), /sim/score (std_msgs/Int32),
-//   /sim/faults
+//   (robot_sim/GameElements), /sim/match (robot_sim/MatchState), /sim/score (std_msgs/Int32: our
+//   points), /sim/score_events (robot_sim/ScoreEvents, latched), /sim/faults
 //   (robot_sim/ActiveFaults, latched), /sim/markers (visualization_msgs/MarkerArray);
-//   in: /sim/debug/motor_command (robot_sim/DebugMotorCommand, sim-only test input).
+//   in: /sim/debug/motor_command (robot_sim/DebugMotorCommand, sim-only test input),
+//   brain/match_status (smart_brain/MatchStatus): a brain started without the cord (its ~start
+//   service) pulls the simulated cord, so the referee's match starts with the brain's.
 // Services: /sim/inject_fault, /sim/teleport, /sim/place_opponent, /sim/set_switch, /sim/pause
 //   (std_srvs/SetBool).
 #include <robot_sim/ActiveFaults.h>
@@ -29,6 +31,7 @@
 #include <robot_sim/Teleport.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
+#include <smart_brain/MatchStatus.h>
 #include <std_msgs/Int32.h>
 #include <std_srvs/SetBool.h>
 
@@ -84,10 +87,13 @@ class Simulator {
     opponent_pub_ = nh_.advertise<nav_msgs::Odometry>("sim/opponent", 50);
     elements_pub_ = nh_.advertise<GameElements>("sim/elements", 5);
     match_pub_ = nh_.advertise<robot_sim::MatchState>("sim/match", 5);
-    score_pub_ = nh_.advertise<std_msgs::Int32>("sim/score", 5);  // the plain figure, for reports
+    score_pub_ = nh_.advertise<std_msgs::Int32>("sim/score", 5);  // our points, the plain figure
+    score_events_pub_ = nh_.advertise<ScoreEvents>("sim/score_events", 1, true);
+    score_events_pub_.publish(ScoreEvents());
     faults_pub_ = nh_.advertise<ActiveFaults>("sim/faults", 5, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("sim/markers", 2);
     motor_sub_ = nh_.subscribe("sim/debug/motor_command", 100, &Simulator::onMotorCommand, this);
+    brain_sub_ = nh_.subscribe("brain/match_status", 1, &Simulator::onBrainStatus, this);
     services_.push_back(nh_.advertiseService("sim/inject_fault", &Simulator::onInjectFault, this));
     services_.push_back(nh_.advertiseService("sim/teleport", &Simulator::onTeleport, this));
     services_.push_back(nh_.advertiseService("sim/place_opponent", &Simulator::onPlaceOpponent, this));
@@ -338,8 +344,13 @@ class Simulator {
       const MatchProgress m = world_->match();
       match_pub_.publish(toMatchMsg(m, config_.match.year, stamp));
       std_msgs::Int32 score;
-      score.data = m.score;
+      score.data = m.score_ours;
       score_pub_.publish(score);
+      const std::vector<RefereeEvent> events = world_->scoreEvents();
+      if (events.size() != published_events_) {
+        score_events_pub_.publish(toScoreEventsMsg(events, stamp));
+        published_events_ = events.size();
+      }
     }
     if (marker_rate_.due(t) && markers_pub_.getNumSubscribers() > 0)
       markers_pub_.publish(worldMarkers(config_, world_->snapshot(), stamp));
@@ -357,6 +368,11 @@ class Simulator {
   }
 
   // ------------------------------------------------------------ inputs
+  void onBrainStatus(const smart_brain::MatchStatus& m) {
+    if (m.state == "running" && world_->startMatch())
+      ROS_INFO("simulator: the brain started the match without the cord: start cord pulled");
+  }
+
   void onMotorCommand(const DebugMotorCommand& m) {
     if (m.motors.size() != m.fractions.size()) {
       ROS_WARN_THROTTLE(5, "simulator: /sim/debug/motor_command with %zu motors and %zu fractions dropped",
@@ -465,7 +481,10 @@ class Simulator {
   std::atomic<bool> running_{false};
   SimRate truth_rate_, elements_rate_, match_rate_, marker_rate_;
   std::thread thread_;
-  ros::Publisher clock_pub_, truth_pub_, opponent_pub_, elements_pub_, match_pub_, score_pub_, faults_pub_, markers_pub_;
+  ros::Publisher clock_pub_, truth_pub_, opponent_pub_, elements_pub_, match_pub_, score_pub_, score_events_pub_, faults_pub_,
+      markers_pub_;
+  std::size_t published_events_ = 0;
+  ros::Subscriber brain_sub_;
   ros::Subscriber motor_sub_;
   std::vector<ros::ServiceServer> services_;
 };

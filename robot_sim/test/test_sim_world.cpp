@@ -328,7 +328,8 @@ TEST(SimWorld, CollectorSwallowsAndEjectsAndMatchScores) {
   w.setMotorCommand("roller", -0.5);
   run(w, 0.3);
   EXPECT_FALSE(w.elements()[0].carried);
-  EXPECT_EQ(w.match().score, 3);
+  EXPECT_EQ(w.match().score_ours, 3);
+  EXPECT_EQ(w.match().score_opponent, 0);
   EXPECT_FALSE(w.match().over);
 }
 

@@ -80,6 +80,77 @@ class MatchTimerTest(unittest.TestCase):
         self.assertTrue(ended.wait(1.0))
 
 
+class FakeClock(object):
+    """A simulated clock the test moves by hand: it can jump, stall and run fast."""
+
+    def __init__(self, t=100.0):
+        self.t = t
+        self.lock = threading.Lock()
+
+    def __call__(self):
+        with self.lock:
+            return self.t
+
+    def set(self, t):
+        with self.lock:
+            self.t = t
+
+
+class MatchTimerOnASimulatedClockTest(unittest.TestCase):
+    def make(self, duration=90.0):
+        self.clock = FakeClock()
+        self.ended = threading.Event()
+        return MatchTimer(duration, lambda: None, self.ended.set, clock=self.clock, poll=0.002)
+
+    def test_a_stalled_clock_holds_the_match(self):
+        timer = self.make()
+        timer.start()
+        self.clock.set(150.0)                  # 50 simulated seconds in
+        self.assertFalse(self.ended.wait(0.3), 'the clock stalls at 50 s: no end, however long the wall waits')
+        self.assertAlmostEqual(timer.elapsed(), 50.0, places=6)
+        self.assertAlmostEqual(timer.remaining(), 40.0, places=6)
+        self.clock.set(189.9)
+        self.assertFalse(self.ended.wait(0.1))
+        self.clock.set(190.0)
+        self.assertTrue(self.ended.wait(1.0), 'ends when the simulated clock reaches the duration')
+        self.assertEqual(timer.remaining(), 0.0)
+        self.assertAlmostEqual(timer.elapsed(), 90.0, places=6)
+
+    def test_a_fast_clock_ends_the_match_in_less_wall_time(self):
+        timer = self.make()
+        timer.start()
+        t0 = time.monotonic()
+        for i in range(1, 91):                 # 90 simulated seconds in ~0.3 wall seconds
+            self.clock.set(100.0 + i)
+            time.sleep(0.003)
+        self.assertTrue(self.ended.wait(1.0))
+        self.assertLess(time.monotonic() - t0, 1.5)
+
+    def test_a_jump_forward_ends_at_once_and_a_jump_back_gives_no_time_back(self):
+        timer = self.make()
+        timer.start()
+        self.clock.set(160.0)
+        time.sleep(0.05)                       # the timer reads 60 s elapsed
+        self.clock.set(120.0)                  # back (a bag loops): the match does not rewind
+        time.sleep(0.05)
+        self.assertAlmostEqual(timer.elapsed(), 60.0, places=6)
+        self.clock.set(1000.0)
+        self.assertTrue(self.ended.wait(1.0), 'a jump past the end ends the match')
+        self.assertAlmostEqual(timer.elapsed(), 90.0, places=6)
+
+    def test_nothing_counts_before_the_start(self):
+        timer = self.make()
+        self.clock.set(500.0)
+        self.assertFalse(self.ended.wait(0.1))
+        self.assertEqual(timer.elapsed(), 0.0)
+        self.assertEqual(timer.remaining(), 90.0)
+        timer.start()
+        self.clock.set(589.0)
+        self.assertFalse(self.ended.wait(0.1))
+        self.clock.set(590.0)
+        self.assertTrue(self.ended.wait(1.0))
+
+
 class TriggerTest(unittest.TestCase):
     def test_debounce_and_holdoff(self):
         cond = {'v': False}

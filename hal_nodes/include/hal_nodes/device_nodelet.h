@@ -39,6 +39,11 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   ros::WallTimer diagnostic_timer_;
   ros::Subscriber deactivated_sub_;
   double rate_ = 0.0;
+  // Start-up: a device whose inputs have not arrived yet within ~startup_grace of its start is
+  // "starting" (WARN), not a fault; once it has worked, or after the grace, unavailable is ERROR.
+  double startup_grace_ = 5.0;  // [s, ROS time]
+  ros::Time started_;
+  bool ever_available_ = false;
 
   std::mutex refresh_mutex_;  // refresh() and deactivate() never interleave
   mutable std::mutex stats_mutex_;

@@ -158,6 +158,7 @@ Zone parseZone(const Node& n) {
   z.y1 = std::max(r[1], r[3]);
   z.kinds = n.strings("kinds");
   z.points = static_cast<int>(n.integer("points", 0));
+  z.team = n.str("team", "placer");
   return z;
 }
 
@@ -182,6 +183,17 @@ TableConfig parseTable(const Node& n) {
   }
   for (const auto& z : n.items("start_zones")) t.start_zones.push_back(parseZone(z));
   for (const auto& z : n.items("score_zones")) t.score_zones.push_back(parseZone(z));
+  for (std::size_t i = 0; i < t.score_zones.size(); ++i) {
+    const Zone& z = t.score_zones[i];
+    bool known = z.team == "placer";
+    for (const Zone& s : t.start_zones) known = known || s.name == z.team;
+    if (!known) {
+      std::string teams = "placer";
+      for (const Zone& s : t.start_zones) teams += ", " + s.name;
+      n.items("score_zones")[i].fail("team", "= '" + z.team + "': allowed values: " + teams +
+                                                  " (a start zone's name is that team's colour)");
+    }
+  }
   for (const auto& e : n.items("elements")) {
     GameElement g;
     g.kind = e.str("kind", "");

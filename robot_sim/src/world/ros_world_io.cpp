@@ -10,6 +10,11 @@ WorldConfig loadWorldConfig(const ros::NodeHandle& nh, const ros::NodeHandle& pn
   XmlRpc::XmlRpcValue world, table;
   pnh.getParam("world", world);  // missing: every default (the schema has one for each)
   nh.getParam("table", table);
+  // One match length for the robot and the referee: the brain's, unless the world sets its own.
+  XmlRpc::XmlRpcValue brain_duration;
+  if (nh.getParam("brain/match/duration", brain_duration) && world.getType() != XmlRpc::XmlRpcValue::TypeInvalid &&
+      !(world.hasMember("match") && world["match"].hasMember("duration")))
+    world["match"]["duration"] = brain_duration;
   return parseWorldConfig(world, pnh.resolveName("world"), table, nh.resolveName("table"));
 }
 
@@ -87,8 +92,27 @@ robot_sim::MatchState toMatchMsg(const MatchProgress& p, const std::string& year
   m.over = p.over;
   m.elapsed = p.elapsed;
   m.remaining = p.remaining;
-  m.score = p.score;
+  m.score = p.score_ours;
+  m.score_ours = p.score_ours;
+  m.score_opponent = p.score_opponent;
+  m.colour_ours = p.colour_ours;
+  m.colour_opponent = p.colour_opponent;
   return m;
+}
+
+robot_sim::ScoreEvents toScoreEventsMsg(const std::vector<RefereeEvent>& events, const ros::Time& stamp) {
+  robot_sim::ScoreEvents out;
+  out.header.stamp = stamp;
+  for (const RefereeEvent& e : events) {
+    robot_sim::ScoreEvent m;
+    m.time = e.time;
+    m.element = e.element;
+    m.zone = e.zone;
+    m.points = e.points;
+    m.team = e.team == Mover::ours ? "ours" : e.team == Mover::opponent ? "opponent" : "nobody";
+    out.events.push_back(m);
+  }
+  return out;
 }
 
 visualization_msgs::MarkerArray worldMarkers(const WorldConfig& c, const WorldSnapshot& s, const ros::Time& stamp) {

@@ -45,7 +45,8 @@ SimWorld::SimWorld(const WorldConfig& config, unsigned seed)
   for (const auto& [name, c] : config.robot.collectors) collectors_[name].config = c;
   for (const auto& [name, c] : config.robot.rangers) ranger_rng_.emplace(name, Rng(seed, "ranger/" + name));
   if (!left_ || !right_) throw ConfigError("the robot needs a left and a right drive motor");
-  match_started_ = config.match.start_switch.empty();
+  scoring_.assign(elements_.size(), Scoring{});
+  if (config.match.start_switch.empty()) beginMatch();
 }
 
 template <class M>
@@ -321,6 +322,7 @@ void SimWorld::stepGripper(Collector& c) {
   if (!closed) {
     for (GameElement* e : c.gripped) {
       e->carried = false;
+      e->moved_by = Mover::ours;
       e->pose.x = mouth.x;
       e->pose.y = mouth.y;
     }
@@ -344,6 +346,7 @@ void SimWorld::stepGripper(Collector& c) {
   }
   if (best && c.held < c.config.capacity) {
     best->carried = true;
+    best->moved_by = Mover::ours;
     c.gripped.push_back(best);
     ++c.held;
   }
@@ -367,9 +370,11 @@ void SimWorld::stepElements(double dt, const std::vector<Point2D>& ours) {
       if (cmd > 0.1 && !e.carried && kind_ok && c.held < c.config.capacity &&
           std::hypot(e.pose.x - mouth.x, e.pose.y - mouth.y) <= c.config.radius) {
         e.carried = true;
+        e.moved_by = Mover::ours;
         ++c.held;
       } else if (cmd < -0.1 && e.carried && c.held > 0 && c.eject_cooldown <= 0.0 && kind_ok) {
         e.carried = false;
+        e.moved_by = Mover::ours;
         e.pose = toMap(c.config.x + c.config.radius + e.radius, c.config.y);
         --c.held;
         c.eject_cooldown = 0.25;
@@ -390,6 +395,7 @@ void SimWorld::stepElements(double dt, const std::vector<Point2D>& ours) {
       if (pushOut(ours, c)) {
         e.pose.x = c.x;
         e.pose.y = c.y;
+        e.moved_by = Mover::ours;
       }
     }
     if (config_.opponent.enabled) {
@@ -401,6 +407,7 @@ void SimWorld::stepElements(double dt, const std::vector<Point2D>& ours) {
         const double ux = d > 1e-9 ? dx / d : 1.0, uy = d > 1e-9 ? dy / d : 0.0;
         e.pose.x = pusher.x + ux * need;
         e.pose.y = pusher.y + uy * need;
+        e.moved_by = Mover::opponent;
       }
     }
     e.pose.x = std::clamp(e.pose.x, e.radius, config_.table.length - e.radius);
@@ -408,31 +415,83 @@ void SimWorld::stepElements(double dt, const std::vector<Point2D>& ours) {
   }
 }
 
-int SimWorld::scoreNow() const {
-  int score = 0;
-  for (const auto& e : elements_) {
-    if (e.carried) continue;
-    for (const Zone& z : config_.table.score_zones) {
-      const bool kind_ok = z.kinds.empty() || std::find(z.kinds.begin(), z.kinds.end(), e.kind) != z.kinds.end();
-      if (kind_ok && z.contains(e.pose.x, e.pose.y)) {
-        score += z.points;
-        break;
+// A zone with a team colour scores for the team of that colour; a "placer" zone for the robot
+// that last moved the element (nobody's points for an element nobody touched).
+Mover SimWorld::zoneTeam(const Zone& zone, const GameElement& e) const {
+  if (zone.team.empty() || zone.team == "placer") return e.moved_by;
+  if (zone.team == colour_ours_) return Mover::ours;
+  if (zone.team == colour_opponent_) return Mover::opponent;
+  return Mover::nobody;
+}
+
+void SimWorld::updateScoring() {
+  const double t = time_ - match_start_;
+  for (std::size_t i = 0; i < elements_.size(); ++i) {
+    const GameElement& e = elements_[i];
+    Scoring now;
+    if (!e.carried) {
+      for (std::size_t z = 0; z < config_.table.score_zones.size(); ++z) {
+        const Zone& zone = config_.table.score_zones[z];
+        const bool kind_ok = zone.kinds.empty() || std::find(zone.kinds.begin(), zone.kinds.end(), e.kind) != zone.kinds.end();
+        if (kind_ok && zone.contains(e.pose.x, e.pose.y)) {
+          now.zone = static_cast<int>(z);
+          now.team = zoneTeam(zone, e);
+          break;
+        }
       }
+      if (now.team == Mover::nobody) now.zone = -1;  // lies there for nobody: no points, no event
     }
+    Scoring& was = scoring_[i];
+    if (now.zone == was.zone && now.team == was.team) continue;
+    const std::string name = e.kind + "#" + std::to_string(i);
+    if (was.zone >= 0) {
+      const Zone& z = config_.table.score_zones[was.zone];
+      score_events_.push_back(RefereeEvent{t, name, z.name, -z.points, was.team});
+    }
+    if (now.zone >= 0) {
+      const Zone& z = config_.table.score_zones[now.zone];
+      score_events_.push_back(RefereeEvent{t, name, z.name, z.points, now.team});
+    }
+    was = now;
   }
-  return score;
+}
+
+// Our colour is the start zone our robot stands in when the match starts; the opponent's the
+// start zone it stands in, else another start zone.
+void SimWorld::beginMatch() {
+  match_started_ = true;
+  match_start_ = time_;
+  scoring_.assign(elements_.size(), Scoring{});
+  const Pose2D opp = opponent_.pose();
+  for (const Zone& z : config_.table.start_zones) {
+    if (colour_ours_.empty() && z.contains(pose_.x, pose_.y)) colour_ours_ = z.name;
+  }
+  for (const Zone& z : config_.table.start_zones) {
+    if (z.name != colour_ours_ && config_.opponent.enabled && z.contains(opp.x, opp.y)) colour_opponent_ = z.name;
+  }
+  for (const Zone& z : config_.table.start_zones) {
+    if (colour_opponent_.empty() && z.name != colour_ours_) colour_opponent_ = z.name;
+  }
 }
 
 void SimWorld::stepMatch() {
   if (!match_started_) {
     // The start cord: the match starts when the switch opens.
-    if (!manual_switches_.at(config_.match.start_switch)) {
-      match_started_ = true;
-      match_start_ = time_;
-    }
+    if (!manual_switches_.at(config_.match.start_switch)) beginMatch();
     return;
   }
-  if (final_score_ < 0 && time_ - match_start_ >= config_.match.duration) final_score_ = scoreNow();
+  if (match_over_) return;
+  updateScoring();
+  if (time_ - match_start_ >= config_.match.duration) match_over_ = true;  // the score freezes
+}
+
+bool SimWorld::startMatch() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (match_started_) return false;
+  bool& cord_closed = manual_switches_.at(config_.match.start_switch);
+  if (!cord_closed) return false;  // pulled already: the match starts at this step
+  cord_closed = false;             // as the cord is pulled
+  return true;
 }
 
 // ---------------------------------------------------------------- controls and truth
@@ -536,9 +595,21 @@ MatchProgress SimWorld::match() const {
   m.started = match_started_;
   m.elapsed = match_started_ ? std::min(time_ - match_start_, config_.match.duration) : 0.0;
   m.remaining = config_.match.duration - m.elapsed;
-  m.over = final_score_ >= 0;
-  m.score = m.over ? final_score_ : scoreNow();
+  m.over = match_over_;
+  for (const Scoring& s : scoring_) {
+    if (s.zone < 0) continue;
+    const int points = config_.table.score_zones[s.zone].points;
+    if (s.team == Mover::ours) m.score_ours += points;
+    if (s.team == Mover::opponent) m.score_opponent += points;
+  }
+  m.colour_ours = colour_ours_;
+  m.colour_opponent = colour_opponent_;
   return m;
+}
+
+std::vector<RefereeEvent> SimWorld::scoreEvents() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return score_events_;
 }
 
 std::vector<GameElement> SimWorld::elements() const {

@@ -6,11 +6,16 @@ Parameters (config/<robot>.yaml, block `brain:`):
   ~device_timeout      [s] how long to wait for the strategy's HAL devices (default 10)
   ~strategy_modules    extra Python modules that @register strategies (default [])
   ~match/enabled       run under the match timer (default: the strategy's `timed`)
-  ~match/duration      [s] match length, start signal to match end (default 100)
+  ~match/duration      [s] match length, start signal to match end (default 90); simulated
+                       seconds under use_sim_time, the monotonic clock on the robot
   ~match/start         cord: wait for the start signal; immediate: start at once (default cord)
   ~match/start_topic   the HAL human interface (hal_nodes/HumanInput, `started`) (default /hal/hmi/input)
   ~match/funny_action  run the strategy's funny_action() after the match end (default false)
   ~match/deactivate_service  (default /effectors/deactivate, std_srvs/Trigger, from hal_node)
+  ~ready/nodes, ~ready/optional  what "ready" needs (smart_brain/readiness.py)
+  ~ready/grace         [s, wall] start-up: "not ready" is logged at INFO this long, then WARN (default 15)
+  ~ready/display       the HMI display's text input (std_msgs/String, default /hal/hmi/text):
+                       "ready: pull cord" or what is not ready, while waiting for the start
   ~triggers/<kind>     trigger blocks for state-machine strategies (smart_brain/triggers)
   ~<strategy>/...      each strategy's own block
 
@@ -18,7 +23,8 @@ Interface:
   ~start (std_srvs/Trigger)              start signal without the cord (operator, tests)
   ~switch_strategy (SwitchStrategy)      replace the strategy at runtime (refused after the match end)
   ~start_action (StartAction), ~stop_action (std_srvs/Trigger): the BrainSlave
-  ~match_status (MatchStatus, latched), ~action_status (ActionStatus), ~smach/* (introspection)
+  ~match_status (MatchStatus, latched: state, ready and what is not), ~action_status (ActionStatus),
+  ~smach/* (introspection)
 
 At the match end, whatever the strategy is doing (even blocked in execute()), the match
 timer's thread closes the goal guard (every action goal cancelled, new ones refused),
@@ -98,7 +104,7 @@ class Brain(object):
         self.device_timeout = positive_param('~device_timeout', 10.0)
         self.strategy = strategies.create(str(rospy.get_param('~strategy')))
         self.timed = choice_param('~match/enabled', self.strategy.timed, (True, False))
-        self.duration = positive_param('~match/duration', 100.0)
+        self.duration = positive_param('~match/duration', 90.0)
         self.start_mode = choice_param('~match/start', 'cord', ('cord', 'immediate'))
         self.start_topic = rospy.get_param('~match/start_topic', '/hal/hmi/input')
         self.funny = choice_param('~match/funny_action', False, (True, False))
@@ -115,15 +121,29 @@ class Brain(object):
         stop.prepare()
         self._switch_lock = threading.Lock()
         self._switch_to = None
+        self._hmi_strategy = None
         self.match_over = False
         self.deactivated = False
         self._end_done = threading.Event()
         self._match_pub = rospy.Publisher('~match_status', MatchStatus, queue_size=1, latch=True)
         self._action_pub = rospy.Publisher('~action_status', ActionStatus, queue_size=1)
+        from std_msgs.msg import String
+        from smart_brain.readiness import Readiness
+        self.readiness = Readiness(rospy.get_param('~ready/nodes', ['/hcl', '/hal']),
+                                   rospy.get_param('~ready/optional', []))
+        self.ready, self.readiness_text = False, 'not ready: not checked yet'
+        self.ready_grace = positive_param('~ready/grace', 15.0)
+        self._display_pub = rospy.Publisher(rospy.get_param('~ready/display', '/hal/hmi/text'), String, queue_size=1)
+        self._String = String
         self.timer = None
         if self.timed:
-            from smart_brain.match_timer import MatchTimer
-            self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end)
+            from smart_brain.match_timer import MatchTimer, ros_clock
+            if rospy.get_param('/use_sim_time', False):
+                # Simulated time: the match lasts `duration` simulated seconds at any speed.
+                self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end, clock=ros_clock,
+                                        poll=0.005)
+            else:
+                self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end)
             if self.start_mode == 'cord':
                 from hal_nodes.msg import HumanInput
                 self._start_sub = rospy.Subscriber(self.start_topic, HumanInput, self._on_hmi, queue_size=1)
@@ -132,17 +152,57 @@ class Brain(object):
         rospy.Service('~start_action', StartAction, self._srv_start_action)
         rospy.Service('~stop_action', Trigger, self._srv_stop_action)
         self._status_timer = rospy.Timer(rospy.Duration(0.2), lambda _ev: self.publish_status())
+        self._ready_thread = threading.Thread(target=self._watch_readiness, name='readiness', daemon=True)
+        self._ready_thread.start()
+
+    # ---- readiness (before the start) ----
+    def _watch_readiness(self):
+        """Twice a second until the match starts: is the robot ready? Says so on change (log,
+        status, the HMI display), so a team reads "ready" only when it is."""
+        last = None
+        started = time.monotonic()
+        while not rospy.is_shutdown() and not (self.timer is not None and self.timer.started) and not self.match_over:
+            self.ready, self.readiness_text = self.readiness.check()
+            if self.readiness_text != last:
+                if self.ready and self.timer is not None:
+                    rospy.loginfo('brain: ready: waiting for the start signal on %s (or %s)', self.start_topic,
+                                  rospy.resolve_name('~start'))
+                elif self.ready:
+                    rospy.loginfo('brain: ready')
+                elif time.monotonic() - started < self.ready_grace:
+                    rospy.loginfo('brain: %s', self.readiness_text)  # still coming up
+                else:
+                    rospy.logwarn('brain: %s', self.readiness_text)
+                last = self.readiness_text
+            if self.timer is not None:
+                self._display_pub.publish(self._String('ready: pull cord' if self.ready else self.readiness_text))
+            time.sleep(0.5)
 
     # ---- start signal ----
     def _on_hmi(self, msg):
+        # The keypad's strategy list: a new choice before the start switches the strategy (the
+        # first message only tells what the display shows; the launch's strategy stands).
+        if self._hmi_strategy is not None and msg.strategy and msg.strategy != self._hmi_strategy \
+                and not self.timer.started:
+            rospy.loginfo('brain: strategy %s chosen on the keypad', msg.strategy)
+            ok, why = self.request_switch(msg.strategy)
+            if not ok:
+                rospy.logwarn('brain: keypad strategy %s refused: %s', msg.strategy, why)
+        self._hmi_strategy = msg.strategy
         if msg.started and self.timer.start():
             rospy.loginfo('brain: start signal from %s', self.start_topic)
+            self._warn_if_not_ready()
+
+    def _warn_if_not_ready(self):
+        if not self.ready:
+            rospy.logwarn('brain: the match started while %s', self.readiness_text)
 
     def _srv_start(self, _req):
         if self.timer is None:
             return TriggerResponse(False, 'strategy %s is not under the match timer' % self.strategy.name)
         if self.timer.start():
             rospy.loginfo('brain: start signal from %s', rospy.resolve_name('~start'))
+            self._warn_if_not_ready()
             return TriggerResponse(True, 'match started')
         return TriggerResponse(False, 'the match had already started')
 
@@ -195,20 +255,24 @@ class Brain(object):
     # ---- strategy switching ----
     def _srv_switch(self, req):
         from smart_brain.srv import SwitchStrategyResponse
-        available = strategies.available()
+        ok, text = self.request_switch(req.name)
+        return SwitchStrategyResponse(ok, text, strategies.available())
+
+    def request_switch(self, name):
+        """(True, description) once the switch to strategy `name` is queued; (False, why) if not."""
         if self.match_over:
-            return SwitchStrategyResponse(False, 'the match is over', available)
+            return False, 'the match is over'
         try:
-            new = strategies.create(req.name)
+            new = strategies.create(name)
             missing = missing_requirements(new)
             if missing:
-                raise StrategyError('strategy %s: HAL device(s)/topic(s) missing: %s' % (req.name, ', '.join(missing)))
+                raise StrategyError('strategy %s: HAL device(s)/topic(s) missing: %s' % (name, ', '.join(missing)))
         except StrategyError as e:
-            return SwitchStrategyResponse(False, str(e), available)
+            return False, str(e)
         with self._switch_lock:
             self._switch_to = new
         rospy.loginfo('brain: switching to strategy %s', new.name)
-        return SwitchStrategyResponse(True, new.description, available)
+        return True, new.description
 
     def _do_switch(self):
         with self._switch_lock:
@@ -255,6 +319,7 @@ class Brain(object):
             m.state = 'ended'
         else:
             m.state = 'running' if self.timer.started else 'waiting_for_start'
+        m.ready, m.readiness = self.ready, self.readiness_text
         m.strategy = self.strategy.name
         if self.timer is not None:
             m.elapsed, m.remaining = self.timer.elapsed(), self.timer.remaining()
@@ -271,9 +336,6 @@ class Brain(object):
         if self.timer is not None:
             if self.start_mode == 'immediate':
                 self.timer.start()
-            else:
-                rospy.loginfo('brain: waiting for the start signal on %s (or %s)', self.start_topic,
-                              rospy.resolve_name('~start'))
             while not rospy.is_shutdown() and not self.timer.wait_started(0.05):
                 self._do_switch()
         rate = rospy.Rate(self.rate_hz)

@@ -1,40 +1,66 @@
-"""MatchTimer: waits for the start signal, then counts the match on the monotonic clock
-(a stalled /clock cannot stretch a match) and calls on_end once at `duration`.
+"""MatchTimer: waits for the start signal, then counts the match on one clock and calls on_end
+once at `duration`.
 
-The start signal is the HAL human-interface device's hal_nodes/HumanInput (`started`
-goes true when the cord is pulled) on `start_topic`, or the brain's ~start service; with
-start 'immediate' the match starts at once. One thread, started once.
+The clock is a function returning seconds:
+- on the robot, `time.monotonic` (the default): a wall clock stepped by NTP, or a stalled
+  /clock, can neither stretch nor cut a match;
+- in simulation (use_sim_time), ROS time (`rospy.get_time`), so a match lasts `duration`
+  simulated seconds at any real-time factor. A simulated clock may stall (paused simulator:
+  the match waits with it), run fast, or jump; the timer only ever moves forward: a clock that
+  jumps back (a bag looping) does not give time back to the match.
+
+The start signal is the HAL human-interface device's hal_nodes/HumanInput (`started` goes true
+when the cord is pulled), or the brain's ~start service; with start 'immediate' the match
+starts at once. One thread, started once. With a simulated clock it looks at the clock every
+`poll` wall seconds (nothing wakes a thread on /clock); on the monotonic clock it sleeps until
+the end.
 """
 import threading
 import time
 
 
+def ros_clock():
+    """ROS time in seconds (/clock under use_sim_time), for MatchTimer(clock=...)."""
+    import rospy
+    return rospy.get_time()
+
+
 class MatchTimer(object):
-    def __init__(self, duration, on_start, on_end):
+    def __init__(self, duration, on_start, on_end, clock=time.monotonic, poll=None):
         self.duration = float(duration)
         self._on_start = on_start
         self._on_end = on_end
+        self._clock = clock
+        self._poll = None if poll is None else float(poll)
+        self._latest = None          # the newest clock reading: never goes back
         self._cond = threading.Condition()
         self._started_at = None
         self._ended = False
         self._thread = threading.Thread(target=self._run, name='match-timer', daemon=True)
         self._thread.start()
 
+    def _now(self):
+        t = self._clock()
+        if self._latest is None or t > self._latest:
+            self._latest = t
+        return self._latest
+
     def start(self):
         """The start signal (idempotent): returns False if the match had already started."""
         with self._cond:
             if self._started_at is not None:
                 return False
-            self._started_at = time.monotonic()
+            self._started_at = self._now()
             self._cond.notify_all()
         return True
 
     def end_now(self):
         """End the match at once (emergency or shutdown)."""
         with self._cond:
+            now = self._now()
             if self._started_at is None:
-                self._started_at = time.monotonic() - self.duration
-            self.duration = min(self.duration, time.monotonic() - self._started_at)
+                self._started_at = now - self.duration
+            self.duration = min(self.duration, now - self._started_at)
             self._cond.notify_all()
 
     @property
@@ -46,7 +72,10 @@ class MatchTimer(object):
         return self._ended
 
     def elapsed(self):
-        return 0.0 if self._started_at is None else time.monotonic() - self._started_at
+        with self._cond:
+            if self._started_at is None:
+                return 0.0
+            return min(self.duration, self._now() - self._started_at) if self._ended else self._now() - self._started_at
 
     def remaining(self):
         if self._ended:
@@ -63,9 +92,9 @@ class MatchTimer(object):
         self._on_start()
         with self._cond:
             while True:
-                left = self._started_at + self.duration - time.monotonic()
+                left = self.duration - (self._now() - self._started_at)
                 if left <= 0:
                     break
-                self._cond.wait(left)
+                self._cond.wait(left if self._poll is None else min(left, self._poll))
         self._ended = True
         self._on_end()

@@ -116,7 +116,9 @@ class HumanInterface : public Device {
 
   void show(const HumanInput& s) {
     if (display_ == "lcd") {
-      std::string line2 = s.started ? "GO!" : (s.cord_inserted ? "ready: pull cord" : "insert the cord");
+      // "ready" is the brain's word (its text input, while it waits for the start): the cord
+      // alone does not make the robot ready.
+      std::string line2 = s.started ? "GO!" : (s.cord_inserted ? "cord in" : "insert the cord");
       if (const auto t = text_->fresh(2.0)) line2 = t->data;
       std_msgs::String m;
       m.data = (s.side + " " + s.strategy).substr(0, 16) + "\n" + line2.substr(0, 16);

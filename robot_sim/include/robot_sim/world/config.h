@@ -33,6 +33,9 @@ struct Zone {
   double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
   std::vector<std::string> kinds;  // element kinds that score here (empty: any)
   int points = 0;                  // per element lying inside
+  // Whose points they are: a team colour (a start zone's name: that team), or "placer" (the
+  // robot that last moved the element, e.g. the shared 2009 temple). Empty means "placer".
+  std::string team;
   bool contains(double x, double y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
 };
 
@@ -182,7 +185,7 @@ struct OpponentConfig {
 
 struct MatchConfig {
   std::string year = "2009";
-  double duration = 100.0;     // [s]
+  double duration = 90.0;      // [s] (the 2008 and 2009 rules)
   std::string start_switch;    // the match starts when this switch opens ("" : at t = 0)
 };
 

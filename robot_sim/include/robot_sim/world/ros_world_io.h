@@ -5,6 +5,7 @@
 #include <nav_msgs/Odometry.h>
 #include <robot_sim/GameElements.h>
 #include <robot_sim/MatchState.h>
+#include <robot_sim/ScoreEvents.h>
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -19,6 +20,7 @@ WorldConfig loadWorldConfig(const ros::NodeHandle& nh, const ros::NodeHandle& pn
 nav_msgs::Odometry toOdometry(const BodyTruth& truth, const ros::Time& stamp, const std::string& child_frame);
 GameElements toElementsMsg(const std::vector<GameElement>& elements, const ros::Time& stamp);
 robot_sim::MatchState toMatchMsg(const MatchProgress& match, const std::string& year, const ros::Time& stamp);
+robot_sim::ScoreEvents toScoreEventsMsg(const std::vector<RefereeEvent>& events, const ros::Time& stamp);
 
 // Table, borders, beacons, start and scoring zones, opponent and elements, in `map`.
 visualization_msgs::MarkerArray worldMarkers(const WorldConfig& config, const WorldSnapshot& snap,

@@ -34,12 +34,24 @@ struct BodyTruth {
   double w = 0.0;  // yaw rate [rad/s]
 };
 
+// The referee's account: points per team, frozen at the end of the match.
 struct MatchProgress {
   bool started = false;
   bool over = false;
   double elapsed = 0.0;    // since the start [s]
   double remaining = 0.0;  // [s]
-  int score = 0;           // frozen at the end of the match
+  int score_ours = 0;
+  int score_opponent = 0;
+  std::string colour_ours, colour_opponent;  // start zones at the start ("" before it)
+};
+
+// An element came to lie in a scoring zone (points > 0) or left it (points < 0) during the match.
+struct RefereeEvent {
+  double time = 0.0;    // match time [s]
+  std::string element;  // kind#index in the config's element list
+  std::string zone;
+  int points = 0;
+  Mover team = Mover::nobody;  // whose points
 };
 
 class SimWorld : public World {
@@ -86,6 +98,9 @@ class SimWorld : public World {
   BodyTruth robotTruth() const;
   BodyTruth opponentTruth() const;
   MatchProgress match() const;
+  std::vector<RefereeEvent> scoreEvents() const;  // every event since the start, in order
+  // Starts the match as the start cord does (the cord switch opens); false if it had started.
+  bool startMatch();
   std::vector<GameElement> elements() const;
   double trueRange(const std::string& ranger) const;  // noiseless, for tests
   // Names asked for that this robot does not have ("motor 'lft'"): a config mismatch between
@@ -117,8 +132,10 @@ class SimWorld : public World {
   void stepRobot(double dt);
   void stepElements(double dt, const std::vector<Point2D>& ours);  // ours: our outline in map
   void stepMatch();
+  void beginMatch();
+  void updateScoring();  // each step of the match: where every element scores, and the events
+  Mover zoneTeam(const Zone& zone, const GameElement& e) const;
   void applyScheduled();
-  int scoreNow() const;
   std::vector<Circle> obstacles(bool with_elements) const;
   Pose2D toMap(double x, double y) const;  // a base_link point on the table
   template <class M>
@@ -154,8 +171,16 @@ class SimWorld : public World {
   mutable int unknown_names_ = 0;
   mutable std::set<std::string> unknown_list_;
   bool match_started_ = false;
+  bool match_over_ = false;
   double match_start_ = 0.0;
-  int final_score_ = -1;
+  // Where each element scores now (index into score_zones, -1: nowhere) and for whom.
+  struct Scoring {
+    int zone = -1;
+    Mover team = Mover::nobody;
+  };
+  std::vector<Scoring> scoring_;
+  std::vector<RefereeEvent> score_events_;
+  std::string colour_ours_, colour_opponent_;
   bool contact_ = false;
   double contact_angle_ = 0.0;  // base_link: direction of the contact point on the outline
 };

@@ -27,12 +27,17 @@ struct BeaconMeasurement {
   double delta_s = 0.0; // time of flight of the ultrasonic pulse [s] (noise, outliers applied)
 };
 
+// Who last moved a game element (pushed it, or carried it and let it go): the referee credits
+// an element lying in a shared zone to that robot.
+enum class Mover { nobody, ours, opponent };
+
 struct GameElement {
   std::string kind;     // "ball_red", "ball_white", "column", ...
   Pose2D pose;
   double radius = 0.0;  // [m]
   double height = 0.0;  // [m]
   bool carried = false; // held by our robot
+  Mover moved_by = Mover::nobody;
 };
 
 // Everything a camera renderer or a test needs in one consistent copy.

@@ -1,0 +1,115 @@
+"""Readiness: is the robot ready for a match? Ready means every required product node runs and
+every board and device is OK on /diagnostics_agg (Debian's diagnostic_aggregator, one item per
+board under /Boards and per device under /Devices, config/diagnostics_aggregator.yaml).
+
+Otherwise `check()` names what is not, e.g. "/hcl died: parameter /hcl/motor_board/rate = -100:
+must be > 0" (a node's last FATAL or ERROR line on /rosout_agg is its last word) or
+"/Boards/motor_board: board is STALE: board not answering for 0.52 s".
+
+Parameters (the brain's, config/<robot>.yaml `brain: ready:`):
+  ~ready/nodes     product nodes that must run (default [/hcl, /hal])
+  ~ready/optional  status names (substrings) whose level does not hold the start (default [])
+"""
+import socket
+import threading
+import xmlrpc.client
+
+import rosgraph
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from rosgraph_msgs.msg import Log
+
+LEVELS = {DiagnosticStatus.OK: 'OK', DiagnosticStatus.WARN: 'WARN', DiagnosticStatus.ERROR: 'ERROR',
+          DiagnosticStatus.STALE: 'STALE'}
+GROUPS = ('/Boards/', '/Devices/')
+
+
+class _TimeoutTransport(xmlrpc.client.Transport):
+    """XML-RPC with a reply window: a node killed -9 stays registered but never answers."""
+
+    def __init__(self, timeout):
+        super().__init__()
+        self._timeout = timeout
+
+    def make_connection(self, host):
+        conn = super().make_connection(host)
+        conn.timeout = self._timeout
+        return conn
+
+
+def node_alive(master, name, timeout=0.5):
+    """True if `name` is registered with the master and answers an XML-RPC getPid within
+    `timeout` wall seconds (as `rosnode ping` does)."""
+    try:
+        uri = master.lookupNode(name)
+    except (rosgraph.MasterError, socket.error):
+        return False
+    try:
+        code, _msg, _pid = xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout)).getPid('/brain')
+        return code == 1
+    except (socket.error, xmlrpc.client.Error, OSError):
+        return False
+
+
+def diagnostics_problems(statuses, optional=()):
+    """The boards' and devices' items that are not OK: ['/Boards/x: board is STALE: why', ...]."""
+    problems = []
+    for name in sorted(statuses):
+        level, message = statuses[name]
+        if level == DiagnosticStatus.OK or any(o in name for o in optional):
+            continue
+        problems.append('%s is %s: %s' % (name, LEVELS.get(level, level), message))
+    return problems
+
+
+class Readiness(object):
+    def __init__(self, nodes=('/hcl', '/hal'), optional=()):
+        self.nodes = list(nodes)
+        self.optional = list(optional)
+        self._lock = threading.Lock()
+        self._statuses = None     # leaf item name -> (level, message), from /diagnostics_agg
+        self._last_words = {}     # node -> its last FATAL/ERROR line
+        self._seen_alive = set()
+        self._master = rosgraph.Master(rospy.get_name())
+        self._agg_sub = rospy.Subscriber('/diagnostics_agg', DiagnosticArray, self._on_agg, queue_size=2)
+        self._log_sub = rospy.Subscriber('/rosout_agg', Log, self._on_log, queue_size=50)
+
+    def _on_agg(self, msg):
+        leaves = {}
+        for s in msg.status:
+            if s.name.startswith(GROUPS) and s.name.count('/') == 2:
+                leaves[s.name] = (s.level, s.message)
+        with self._lock:
+            self._statuses = leaves
+
+    def _on_log(self, msg):
+        if msg.level >= Log.ERROR and msg.name in self.nodes:
+            with self._lock:
+                self._last_words[msg.name] = msg.msg.splitlines()[0] if msg.msg else ''
+
+    def check(self):
+        """(ready, text): text is 'ready' or 'not ready: <what, why>; <what, why>'."""
+        problems = []
+        for node in self.nodes:
+            if node_alive(self._master, node):
+                self._seen_alive.add(node)
+                continue
+            with self._lock:
+                words = self._last_words.get(node)
+            if words:
+                problems.append('%s died: %s' % (node, words))
+            elif node in self._seen_alive:
+                problems.append('%s died' % node)
+            else:
+                problems.append('%s is not running' % node)
+        with self._lock:
+            statuses = self._statuses
+        if statuses is None:
+            problems.append('nothing on /diagnostics_agg yet (is diagnostic_aggregator running?)')
+        elif not statuses:
+            problems.append('no board or device reports on /diagnostics_agg')
+        else:
+            problems += diagnostics_problems(statuses, self.optional)
+        if not problems:
+            return True, 'ready'
+        return False, 'not ready: ' + '; '.join(problems)
