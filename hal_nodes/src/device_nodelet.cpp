@@ -47,7 +47,7 @@ void DeviceNodeletBase::onInit() {
     updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
     updater_->setHardwareID(getName());
     updater_->add("device", this, &DeviceNodeletBase::diagnose);
-    diagnostic_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
+    diagnostic_timer_ = getNodeHandle().createTimer(ros::Duration(0.05), [this](const ros::TimerEvent&) {
       updater_->update();
     });
     if (effector_)

@@ -47,7 +47,7 @@ void BoardNodeletBase::onInit() {
     updater_->add("board", this, &BoardNodeletBase::diagnose);
     // The updater is driven from the callback queue, not the polling thread, so a board
     // stuck in I/O is still reported.
-    diagnostic_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
+    diagnostic_timer_ = getNodeHandle().createTimer(ros::Duration(0.05), [this](const ros::TimerEvent&) {
       updater_->update();
     });
 

@@ -29,11 +29,27 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
     return false;
   }
   const std::vector<std::string> types = availableTypes();
+  // ~only: load just these blocks (replaying a match through one device); empty: all of them.
+  std::vector<std::string> only;
+  XmlRpc::XmlRpcValue only_param;
+  if (pnh.getParam("only", only_param)) {
+    bool ok = only_param.getType() == XmlRpc::XmlRpcValue::TypeArray;
+    for (int i = 0; ok && i < only_param.size(); ++i) {
+      ok = only_param[i].getType() == XmlRpc::XmlRpcValue::TypeString && all.hasMember(only_param[i]);
+      if (ok) only.push_back(static_cast<std::string>(only_param[i]));
+    }
+    if (!ok) {
+      ROS_FATAL("parameter %s/only must be a list of configured %s names under %s", pnh.getNamespace().c_str(),
+                kind_.c_str(), pnh.getNamespace().c_str());
+      return false;
+    }
+  }
   for (auto& entry : all) {
     const std::string& key = entry.first;
     XmlRpc::XmlRpcValue& block = entry.second;
     if (block.getType() != XmlRpc::XmlRpcValue::TypeStruct || !block.hasMember("type")) continue;
     const std::string param = pnh.getNamespace() + "/" + key;
+    if (!only.empty() && std::find(only.begin(), only.end(), key) == only.end()) continue;
     if (block.hasMember("enabled") && block["enabled"].getType() == XmlRpc::XmlRpcValue::TypeBoolean &&
         !static_cast<bool>(block["enabled"])) {
       ROS_INFO("%s %s disabled in config", kind_.c_str(), param.c_str());

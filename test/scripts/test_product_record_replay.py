@@ -91,11 +91,12 @@ class RecordReplayTest(unittest.TestCase):
                 replayed.append(msg)
         sub = rospy.Subscriber('/hal/example_device/reading', ExampleReading, cb, queue_size=500)
         replay = roslaunch(os.path.join(ROOT, 'launch', 'replay.launch'), 'bag:=' + self.bag, 'robot:=skeleton',
-                           'sim:=true', 'rviz:=false', log=self.log)
+                           'sim:=true', 'through:=hal', log=self.log)  # rviz:=false is the default
         try:
-            replay.wait(timeout=60.0)  # the player is required: the launch ends with the bag
+            rc = replay.wait(timeout=60.0)  # the launch ends with the bag, cleanly
         except subprocess.TimeoutExpired:
             self.fail('replay did not end with the bag')
+        self.assertEqual(rc, 0, 'replay.launch did not end cleanly at the bag end')
         finally:
             stop(replay)
             sub.unregister()

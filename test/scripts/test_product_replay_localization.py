@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """A simulated eurobot2009 match recorded with record:=true replays through localization:
 1. the bag holds the HCL state, /odom, /mcl/pose and the ground truth;
-2. launch/replay.launch (HAL alone, on the bag's clock) gives localization estimates that
-   follow the ones of the match (played beside them on /recorded/mcl/pose) and the truth;
+2. launch/replay.launch (the localization alone on the recorded HAL outputs, on the bag's clock)
+   gives the match's own estimates again: every replayed /mcl/pose within 1 cm and 1 deg of the
+   recorded one of the same stamp (played beside them on /recorded/mcl/pose), over the whole bag
+   from its first second to its last, at rates 1 and 2; through:=hal (every device on the
+   recorded board states) follows the match and the truth;
 3. the match report of that bag has a localization error, a trajectory and the brain's states.
 The match: the start cord is pulled (sim /sim/set_switch) so the strategy drives."""
 import bisect
@@ -47,15 +50,20 @@ def xy(msg):
     return p.x, p.y
 
 
+def xyyaw(msg):
+    q = msg.pose.pose.orientation
+    return xy(msg) + (math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z)),)
+
+
 class Track(object):
     def __init__(self, topic, msg_type):
         self.lock = threading.Lock()
-        self.items = []  # (stamp, x, y)
+        self.items = []  # (stamp, x, y, yaw)
         self.sub = rospy.Subscriber(topic, msg_type, self.cb, queue_size=1000)
 
     def cb(self, msg):
         with self.lock:
-            self.items.append((msg.header.stamp.to_sec(),) + xy(msg))
+            self.items.append((msg.header.stamp.to_sec(),) + xyyaw(msg))
 
     def get(self):
         with self.lock:
@@ -99,23 +107,63 @@ class ReplayLocalizationTest(unittest.TestCase):
             self.assertIn(topic, topics, sorted(topics))
         self.assertTrue([t for t in topics if t.startswith('/hcl/')], sorted(topics))
 
-    def test_2_replayed_estimates_follow_the_match(self):
+    def replay(self, *args):
+        """Runs replay.launch on the match's bag; (replayed, recorded, truth) tracks."""
         replayed = Track('/mcl/pose', PoseWithCovarianceStamped)
         recorded = Track('/recorded/mcl/pose', PoseWithCovarianceStamped)
         truth = Track('/sim/ground_truth', Odometry)
         replay = roslaunch(os.path.join(ROOT, 'launch', 'replay.launch'), 'bag:=' + self.bag, 'robot:=eurobot2009',
-                           'sim:=true', 'rviz:=false', log=self.log)
+                           'sim:=true', *args, log=self.log)
         try:
-            replay.wait(timeout=120.0)
+            rc = replay.wait(timeout=120.0)
         except subprocess.TimeoutExpired:
             self.fail('replay did not end with the bag')
         finally:
             stop(replay)
-        new, old, true = replayed.get(), recorded.get(), truth.get()
+            for t in (replayed, recorded, truth):
+                t.sub.unregister()
+        self.assertEqual(rc, 0, 'replay.launch did not end cleanly at the bag end')
+        return replayed.get(), recorded.get(), truth.get()
+
+    def check_reproduces(self, rate):
+        new, old, _ = self.replay('rate:=%s' % rate)
+        self.assertGreater(len(old), 20, 'the match estimates were not played back')
+        by_stamp = {round(t, 6): (x, y, a) for t, x, y, a in old}
+        matched, worst_xy, worst_yaw, off = [], 0.0, 0.0, []
+        for t, x, y, a in new:
+            o = by_stamp.get(round(t, 6))
+            if o is None:
+                continue
+            d = math.hypot(x - o[0], y - o[1])
+            da = abs(math.atan2(math.sin(a - o[2]), math.cos(a - o[2])))
+            matched.append(t)
+            worst_xy, worst_yaw = max(worst_xy, d), max(worst_yaw, da)
+            if d > 0.01 or da > math.radians(1.0):
+                off.append('%.2f s: %.3f m, %.2f deg' % (t - old[0][0], d, math.degrees(da)))
+        sys.stdout.write('rate %s: %d replayed estimates, %d at a stamp of the match (of %d); worst %.4f m, %.3f deg\n'
+                         % (rate, len(new), len(matched), len(old), worst_xy, math.degrees(worst_yaw)))
+        self.assertEqual(off, [], 'replayed estimates more than 1 cm / 1 deg from the match at the same stamp')
+        self.assertGreater(len(matched), 0.5 * len(old), 'too few replayed estimates at the match\'s stamps')
+        # The whole bag, from its first second to its last: estimates at the match's stamps in
+        # every second of it after the first.
+        seconds = {int(t - old[0][0]) for t in matched}
+        missing = [k for k in range(1, int(old[-1][0] - old[0][0])) if k not in seconds]
+        sys.stdout.write('rate %s: first match %.2f s, last %.2f s before the end\n'
+                         % (rate, min(matched) - old[0][0], old[-1][0] - max(matched)))
+        self.assertEqual(missing, [], 'seconds of the bag without a replayed estimate at a stamp of the match')
+
+    def test_2_replay_through_localization_reproduces_the_match_at_rate_1(self):
+        self.check_reproduces(1.0)
+
+    def test_3_replay_through_localization_reproduces_the_match_at_rate_2(self):
+        self.check_reproduces(2.0)
+
+    def test_4_replay_through_hal_follows_the_match(self):
+        new, old, true = self.replay('through:=hal')
         self.assertGreater(len(old), 20, 'the match estimates were not played back')
         self.assertGreater(len(new), 0.5 * len(old), 'replay gave %d estimates, the match %d' % (len(new), len(old)))
         diffs, errors = [], []
-        for t, x, y in new:
+        for t, x, y, _ in new:
             o = nearest(old, t)
             if o and abs(o[0] - t) < 0.2:
                 diffs.append(math.hypot(x - o[1], y - o[2]))
@@ -124,13 +172,13 @@ class ReplayLocalizationTest(unittest.TestCase):
                 errors.append(math.hypot(x - g[1], y - g[2]))
         diffs.sort()
         errors.sort()
-        sys.stdout.write('replayed estimates: %d; vs match median %.3f m p90 %.3f m; vs truth median %.3f m\n' % (
+        sys.stdout.write('through hal: %d estimates; vs match median %.3f m p90 %.3f m; vs truth median %.3f m\n' % (
             len(new), diffs[len(diffs) // 2], diffs[int(0.9 * len(diffs))], errors[len(errors) // 2]))
         self.assertGreater(len(diffs), 0.5 * len(new))
         self.assertLess(diffs[len(diffs) // 2], 0.05, 'replayed estimates differ from the match')
         self.assertLess(errors[len(errors) // 2], 0.10, 'replayed estimates far from the truth')
 
-    def test_3_report_of_the_match(self):
+    def test_5_report_of_the_match(self):
         png = os.path.join(self.tmp, 'report.png')
         out = subprocess.run([sys.executable, os.path.join(ROOT, 'scripts', 'match_report.py'), self.bag, '-o', png],
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=120)

@@ -4,7 +4,9 @@ alive: every expected node answers, simulated time runs, the simulator's truth a
 flow, the URDF's every frame is in tf, the table markers come from config, and every board
 (`hcl:` blocks with a type) and device (`hal:` blocks with a type) of the loaded config reports
 on /diagnostics and is not STALE/ERROR. With localization and odometry configured, tf
-map -> odom -> base_link exists and /mcl/pose flows.
+map -> odom -> base_link exists and /mcl/pose flows. No product node (/hcl, /hal, /brain)
+subscribes a topic that nothing publishes, unless config/<robot>.yaml lists it in
+`optional_topics` (inputs from a person or a tool: a dead input is a wiring error otherwise).
 Parameters: ~robot (eurobot2009 | logion), ~expected_nodes (list: what this robot must run)."""
 import os
 import subprocess
@@ -122,6 +124,29 @@ class RobotTest(unittest.TestCase):
             time.sleep(0.5)
         self.assertTrue(self.tf.can_transform('map', 'odom', rospy.Time(0)), 'no map -> odom')
         self.assertTrue(self.tf.can_transform('odom', 'base_link', rospy.Time(0)), 'no odom -> base_link')
+
+    def test_7_no_product_node_waits_on_a_topic_nobody_publishes(self):
+        import rosgraph
+        optional = set(rospy.get_param('/optional_topics', []))
+        master = rosgraph.Master('/test_product_robot')
+        product = ('/hcl', '/hal', '/brain')
+        time.sleep(5.0)  # every node up and subscribed
+        pubs, subs, _ = master.getSystemState()
+        published = {topic for topic, nodes in pubs if nodes}
+        # An action server's goal and cancel inputs wait for clients by design (its status is
+        # published); /rosout_agg belongs to ROS's own rosout (rostest may run without it).
+        servers = {t[:-len('/status')] for t in published if t.endswith('/status')}
+
+        def expected_silent(topic):
+            return topic in optional or topic == '/rosout_agg' or (
+                topic.rsplit('/', 1)[0] in servers and topic.rsplit('/', 1)[1] in ('goal', 'cancel'))
+        dead = sorted('%s (subscribed by %s)' % (topic, ', '.join(n for n in nodes if n in product))
+                      for topic, nodes in subs
+                      if any(n in product for n in nodes) and topic not in published and not expected_silent(topic))
+        self.assertEqual(dead, [], 'product nodes subscribe topics nothing publishes (list an input from a person '
+                                   'or a tool in config/%s.yaml optional_topics)' % self.robot)
+        unused = sorted(t for t in optional if not any(t == topic for topic, _ in subs))
+        self.assertEqual(unused, [], 'optional_topics lists topics nobody subscribes')
 
 
 if __name__ == '__main__':

@@ -6,7 +6,12 @@
 - One start: /brain/start (no cord) starts the simulated referee's match as well.
 - The idle strategy scores nothing of its own: at the match end our score is 0; whatever the
   opponent pushed into a zone is the opponent's (the score events say whose).
+- A second simulation started on this one's channels (CAN bus, beacon pty, camera port)
+  refuses at once, naming them, and this one's boards keep working.
 """
+import os
+import subprocess
+import time
 import sys
 import unittest
 
@@ -17,7 +22,7 @@ from robot_sim.msg import MatchState, ScoreEvents
 from smart_brain.msg import MatchStatus
 from std_srvs.srv import Trigger
 
-from hal_test_common import Recorder, wait_for
+from hal_test_common import DeviceDiagnostics, Recorder, is_ok, wait_for
 
 
 def leaves(agg):
@@ -25,8 +30,11 @@ def leaves(agg):
 
 
 class SimRefereeTest(unittest.TestCase):
-    def test_ready_one_start_and_our_score(self):
+    @classmethod
+    def setUpClass(cls):
         rospy.init_node('test_sim_referee')
+
+    def test_ready_one_start_and_our_score(self):
         brain = Recorder('/brain/match_status', MatchStatus)
         referee = Recorder('/sim/match', MatchState)
         agg = Recorder('/diagnostics_agg', DiagnosticArray, queue_size=50)
@@ -62,6 +70,30 @@ class SimRefereeTest(unittest.TestCase):
         scored = events.last().events if events.last() is not None else []
         self.assertFalse([e for e in scored if e.team == 'ours'], scored)
         self.assertEqual(sum(e.points for e in scored if e.team == 'opponent'), final.score_opponent)
+
+    def test_second_simulation_on_the_same_channels_refuses(self):
+        beacons_pty = rospy.get_param('/sim/firmware/beacons/port')
+        self.assertTrue(os.path.exists(beacons_pty))
+        # The same world and emulators (the same channels) in another namespace.
+        rospy.set_param('/second/sim', rospy.get_param('/sim'))
+        rospy.set_param('/second/table', rospy.get_param('/table'))
+        rospy.set_param('/second/brain/match/duration', rospy.get_param('/brain/match/duration'))
+        out = subprocess.run(['rosrun', 'robot_sim', 'simulator', '__ns:=/second', '__name:=sim'],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=30)
+        text = out.stdout.decode(errors='replace')
+        self.assertNotEqual(out.returncode, 0, text)
+        self.assertIn('refusing to start', text)
+        for channel in ('TCP port %d' % rospy.get_param('/sim/firmware/camera/port'), beacons_pty,
+                        'CAN node 10 already answers on %s' % rospy.get_param('/sim/firmware/motor_board/bus')):
+            self.assertIn(channel, text)
+        # The running simulation lost nothing: its pty is there and its boards still answer.
+        self.assertTrue(os.path.exists(beacons_pty), 'the second simulation removed the first one\'s beacon pty')
+        diag = DeviceDiagnostics()
+        since = time.monotonic() + 0.5
+        for name in ('hcl/beacons', 'hcl/motor_board', 'hal/beacons'):
+            status = diag.wait_for(name, lambda s: True, 5.0, since=since)
+            self.assertIsNotNone(status, name)
+            self.assertTrue(is_ok(status), '%s: %s' % (name, status.message))
 
 
 if __name__ == '__main__':

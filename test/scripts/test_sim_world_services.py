@@ -203,7 +203,8 @@ class SimServicesTest(unittest.TestCase):
         self.assertTrue(self.switch('start_cord', False).ok)
         m = self.match.get(pred=lambda m: m.started and m.elapsed > 0.5)
         self.assertIsNotNone(m)
-        self.assertAlmostEqual(m.elapsed + m.remaining, rospy.get_param('/sim/world/match/duration'), delta=1e-6)
+        # One match length for the robot and the referee: the brain's (config brain/match/duration).
+        self.assertAlmostEqual(m.elapsed + m.remaining, rospy.get_param('/brain/match/duration'), delta=1e-6)
         self.assertIsNotNone(self.score.get())
 
     def test_6_a_bad_parameter_stops_the_simulator_with_one_line(self):

@@ -36,7 +36,7 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   Effector* effector_ = nullptr;  // device_ when it is an effector
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::Timer refresh_timer_;
-  ros::WallTimer diagnostic_timer_;
+  ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
   ros::Subscriber deactivated_sub_;
   double rate_ = 0.0;
   // Start-up: a device whose inputs have not arrived yet within ~startup_grace of its start is

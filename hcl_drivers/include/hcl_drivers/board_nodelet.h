@@ -37,7 +37,7 @@ class BoardNodeletBase : public nodelet::Nodelet {
 
   std::unique_ptr<Board> board_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::WallTimer diagnostic_timer_;
+  ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
   std::string member_name_;
   bool joined_ = false;
 

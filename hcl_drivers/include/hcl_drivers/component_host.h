@@ -19,8 +19,9 @@ class ComponentHost {
   // `package`: plugin name prefix ("hcl_drivers"); `kind`: "board" or "device", for messages.
   ComponentHost(std::string package, std::string kind);
 
-  // Load every configured component. On a bad configuration prints one line naming the
-  // parameter and the allowed values and returns false (the caller exits non-zero).
+  // Load every configured component (only those named in `~only` when it is set). On a bad
+  // configuration prints one line naming the parameter and the allowed values and returns false
+  // (the caller exits non-zero).
   bool loadFromParameters(const ros::NodeHandle& pnh);
 
   // Plugin types this package declares (without the package prefix), sorted.

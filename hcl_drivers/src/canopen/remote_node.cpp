@@ -13,7 +13,7 @@ using transport::CanFrame;
 using transport::CanFilter;
 
 namespace {
-double nowS() {
+double nowS() {  // reply windows: wall time
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 std::string hex(uint32_t v, int width = 4) {
@@ -50,11 +50,13 @@ bool RemoteNode::nmt(NmtCommand cmd) {
 bool RemoteNode::sendPdo(uint32_t cob_id, const std::vector<uint8_t>& bytes) { return sendRaw(encodePdo(cob_id, bytes)); }
 bool RemoteNode::requestPdo(uint32_t cob_id, uint8_t dlc) { return sendRaw(encodeRtr(cob_id, dlc)); }
 
-double RemoteNode::lastHeardAge() const { return last_heard_ < 0 ? -1.0 : nowS() - last_heard_; }
+double RemoteNode::ageNow() const { return age_clock_ ? age_clock_() : nowS(); }
+
+double RemoteNode::lastHeardAge() const { return last_heard_ < 0 ? -1.0 : ageNow() - last_heard_; }
 
 double RemoteNode::heartbeatAge() const {
   const double t = last_heartbeat_;
-  return t < 0 ? -1.0 : nowS() - t;
+  return t < 0 ? -1.0 : ageNow() - t;
 }
 
 void RemoteNode::dispatch(const CanFrame& f) {
@@ -65,7 +67,7 @@ void RemoteNode::dispatch(const CanFrame& f) {
   auto h = handlers_.find(f.id);
   if (h != handlers_.end()) {
     if (f.rtr) return;  // someone else requesting the same PDO: not data
-    last_heard_ = nowS();
+    last_heard_ = ageNow();
     if (!h->second(f)) {
       ++malformed_;
       last_error_ = "malformed frame " + transport::toString(f);
@@ -80,7 +82,7 @@ void RemoteNode::dispatch(const CanFrame& f) {
       last_error_ = "malformed heartbeat " + transport::toString(f);
       return;
     }
-    last_heard_ = nowS();
+    last_heard_ = ageNow();
     last_heartbeat_ = last_heard_;
     heartbeat_state_ = hb->state;
     state_ = hb->state;
@@ -97,7 +99,7 @@ void RemoteNode::dispatch(const CanFrame& f) {
       last_error_ = "malformed SDO response " + transport::toString(f);
       return;
     }
-    last_heard_ = nowS();
+    last_heard_ = ageNow();
     sdo_response_ = r;
     return;
   }

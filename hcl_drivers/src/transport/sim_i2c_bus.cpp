@@ -79,6 +79,7 @@ I2cStatus SimI2cBus::transferOnce(std::vector<I2cMessage>& msgs, std::string& de
   std::size_t expected = 0;
   for (const auto& m : msgs)
     if (m.read) expected += m.data.size();
+  // The reply window is wall time: the emulated bus answers in wall time, as /dev/i2c-N does.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout());
   uint8_t buf[sim_i2c::kMaxPacket];
   while (true) {

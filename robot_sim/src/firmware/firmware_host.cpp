@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "robot_sim/firmware/channel_check.h"
 #include "robot_sim/firmware/firmware_registry.h"
 
 namespace robot_sim {
@@ -15,6 +16,15 @@ bool FirmwareHost::startFromParameters() {
   XmlRpc::XmlRpcValue all;
   if (!pnh_.getParam(pnh_.getNamespace(), all) || all.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
     ROS_FATAL("no emulators configured under %s", pnh_.getNamespace().c_str());
+    return false;
+  }
+  const std::vector<std::string> taken = channelsInUse(all);
+  if (!taken.empty()) {
+    std::string list;
+    for (const auto& t : taken) list += (list.empty() ? "" : "; ") + t;
+    ROS_FATAL("refusing to start: another simulation runs on this one's channels (%s). Give each simulation "
+              "running at the same time its own channels (launch arguments can_bus, sim_dir, camera_port)",
+              list.c_str());
     return false;
   }
   for (auto& entry : all) {

@@ -39,7 +39,7 @@ import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 
 from smart_brain import strategy as strategies
-from smart_brain.statemachine import GOAL_GUARD
+from smart_brain.statemachine import GOAL_GUARD, clock
 from smart_brain.strategy import StrategyError
 
 
@@ -65,7 +65,8 @@ def missing_requirements(strategy):
 
 
 def wait_for_devices(strategy, timeout):
-    """Wait until every required device and topic publishes; StrategyError naming the missing ones."""
+    """Wait until every required device and topic publishes; StrategyError naming the missing ones.
+    Wall time: processes starting up take wall time whatever the simulated clock does."""
     deadline = time.monotonic() + timeout
     while not rospy.is_shutdown():
         missing = missing_requirements(strategy)
@@ -137,13 +138,10 @@ class Brain(object):
         self._String = String
         self.timer = None
         if self.timed:
-            from smart_brain.match_timer import MatchTimer, ros_clock
-            if rospy.get_param('/use_sim_time', False):
-                # Simulated time: the match lasts `duration` simulated seconds at any speed.
-                self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end, clock=ros_clock,
-                                        poll=0.005)
-            else:
-                self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end)
+            from smart_brain.match_timer import MatchTimer
+            # The brain's clock: the match lasts `duration` simulated seconds at any speed.
+            self.timer = MatchTimer(self.duration, self._on_match_start, self._on_match_end, clock=clock.now,
+                                    poll=clock.POLL if clock.simulated() else None)
             if self.start_mode == 'cord':
                 from hal_nodes.msg import HumanInput
                 self._start_sub = rospy.Subscriber(self.start_topic, HumanInput, self._on_hmi, queue_size=1)
@@ -176,7 +174,7 @@ class Brain(object):
                 last = self.readiness_text
             if self.timer is not None:
                 self._display_pub.publish(self._String('ready: pull cord' if self.ready else self.readiness_text))
-            time.sleep(0.5)
+            clock.sleep(0.5)  # the display text stays fresh (2 s) on the HMI at any speed
 
     # ---- start signal ----
     def _on_hmi(self, msg):
@@ -229,6 +227,7 @@ class Brain(object):
         self._end_done.set()
 
     def _deactivate_effectors(self, timeout=3.0):
+        # A service's reply window: wall time (hal_node answers in wall time).
         proxy = rospy.ServiceProxy(self.deactivate_service, Trigger)
         deadline = time.monotonic() + timeout
         while not rospy.is_shutdown():
@@ -361,6 +360,8 @@ class Brain(object):
 
 def main():
     rospy.init_node('brain')
+    if rospy.get_param('/use_sim_time', False):
+        clock.use_ros_time()  # every timeout, hold-off and the match timer on /clock
     try:
         brain = Brain()
     except StrategyError as e:

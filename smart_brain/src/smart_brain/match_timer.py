@@ -4,8 +4,8 @@ once at `duration`.
 The clock is a function returning seconds:
 - on the robot, `time.monotonic` (the default): a wall clock stepped by NTP, or a stalled
   /clock, can neither stretch nor cut a match;
-- in simulation (use_sim_time), ROS time (`rospy.get_time`), so a match lasts `duration`
-  simulated seconds at any real-time factor. A simulated clock may stall (paused simulator:
+- in simulation (use_sim_time), ROS time (the brain's clock, statemachine/clock.py), so a
+  match lasts `duration` simulated seconds at any real-time factor. A simulated clock may stall (paused simulator:
   the match waits with it), run fast, or jump; the timer only ever moves forward: a clock that
   jumps back (a bag looping) does not give time back to the match.
 
@@ -17,12 +17,6 @@ the end.
 """
 import threading
 import time
-
-
-def ros_clock():
-    """ROS time in seconds (/clock under use_sim_time), for MatchTimer(clock=...)."""
-    import rospy
-    return rospy.get_time()
 
 
 class MatchTimer(object):

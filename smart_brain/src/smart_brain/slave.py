@@ -6,9 +6,8 @@ one. current_id, elapsed() and progress() (0..100 %) are readable at any time. W
 without ROS; the brain publishes status() on /brain/action_status.
 """
 import threading
-import time
 
-from smart_brain.statemachine import Runner
+from smart_brain.statemachine import Runner, clock
 
 
 class BrainSlave(object):
@@ -36,14 +35,14 @@ class BrainSlave(object):
                     raise RuntimeError('action %s did not stop within %.1f s' % (replaced, self._stop_timeout))
             self.current_id = action_id
             self._state = state
-            self._started = time.monotonic()
+            self._started = clock.now()
             self._ended = None
             self.outcome, self.error = '', None
             self._runner.start(state, userdata, on_done=self._done)
             return 'replaced %s' % replaced if replaced else 'started'
 
     def _done(self, outcome, error):
-        self._ended = time.monotonic()
+        self._ended = clock.now()
         self.outcome = outcome or ''
         self.error = error
 
@@ -59,7 +58,7 @@ class BrainSlave(object):
     def elapsed(self):
         if self._started is None:
             return 0.0
-        return (self._ended or time.monotonic()) - self._started
+        return (self._ended or clock.now()) - self._started
 
     def progress(self):
         """[%]: the action's own progress() if it has one (driver feedback), 100 once succeeded."""

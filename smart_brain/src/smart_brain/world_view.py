@@ -2,7 +2,8 @@
 (/mcl/pose) and the newest game elements the vision device saw (hal_nodes/GameElements)."""
 import math
 import threading
-import time
+
+from smart_brain.statemachine import clock
 
 
 class WorldView(object):
@@ -26,7 +27,7 @@ class WorldView(object):
     def _on_elements(self, msg):
         items = [(e.kind, e.pose.pose.position.x, e.pose.pose.position.y) for e in msg.elements]
         with self._lock:
-            self._elements = (time.monotonic(), items)
+            self._elements = (clock.now(), items)
 
     def pose(self):
         with self._lock:
@@ -37,7 +38,7 @@ class WorldView(object):
         with self._lock:
             stamp, items = self._elements
             pose = self._pose
-        if time.monotonic() - stamp > self.max_age:
+        if clock.now() - stamp > self.max_age:
             return []
         items = [e for e in items if e[0] in kinds]
         if pose is not None:

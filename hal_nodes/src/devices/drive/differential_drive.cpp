@@ -71,10 +71,16 @@ class DifferentialDrive : public Effector {
     if (cmd) {
       target = wheelSpeeds(cmd->linear.x, cmd->angular.z, track_width_, max_wheel_speed_);
       commanded_ = true;
+      last_moving_ = cmd->linear.x != 0.0 || cmd->angular.z != 0.0;
     } else if (commanded_) {
       commanded_ = false;
       ++timeouts_;
-      ROS_WARN("drive: no cmd_vel for %.2f s, stopping", cmd_timeout_);
+      // A commander that stopped and then went quiet (a goal's end) is routine; one that went
+      // quiet while the robot was moving is not.
+      if (last_moving_)
+        ROS_WARN("drive: no cmd_vel for %.2f s while moving, stopping", cmd_timeout_);
+      else
+        ROS_INFO("drive: no cmd_vel for %.2f s after a stop", cmd_timeout_);
     }
     current_ = rampTowards(current_, target, max_acceleration_, period_);
     send(current_);
@@ -119,6 +125,7 @@ class DifferentialDrive : public Effector {
   double track_width_ = 0.0, max_wheel_speed_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
   unsigned long timeouts_ = 0;
   bool commanded_ = false;
+  bool last_moving_ = false;  // the last fresh command asked for motion
 };
 
 }  // namespace hal_nodes

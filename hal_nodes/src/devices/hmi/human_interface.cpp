@@ -79,7 +79,7 @@ class HumanInterface : public Device {
       if (*cord) armed_ = true;
       else if (armed_ && !started_) {
         started_ = true;
-        ROS_WARN("human interface: start cord pulled, the match starts");
+        ROS_INFO("human interface: start cord pulled, the match starts");
       }
       cord_in_ = *cord;
     }

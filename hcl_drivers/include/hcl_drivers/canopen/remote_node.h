@@ -75,11 +75,16 @@ class RemoteNode {
   unsigned long sdoTimeouts() const { return sdo_timeouts_; }
   // Seconds since the last frame from this node (any kind); negative when none yet.
   double lastHeardAge() const;
+  // The clock of the ages above (heartbeats, last heard): monotonic by default; a board node
+  // gives ROS time, so a node's heartbeat period means the same at any simulated speed. SDO
+  // reply windows stay on the monotonic clock: the other end answers in wall time.
+  void setAgeClock(std::function<double()> clock) { age_clock_ = std::move(clock); }
   const std::string& lastError() const { return last_error_; }
   transport::CanBus& bus() { return *bus_; }
 
  private:
   void dispatch(const transport::CanFrame& f);
+  double ageNow() const;
   // Sends `request` and waits for the answer: in the initiate phase one naming index/subindex, in
   // the segment phase a segment frame (or an abort of this transfer). Throws on abort/timeout.
   SdoResponse sdoExchange(const transport::CanFrame& request, uint16_t index, uint8_t subindex, bool segment_phase,
@@ -101,6 +106,7 @@ class RemoteNode {
   unsigned long sdo_aborts_ = 0;
   unsigned long sdo_timeouts_ = 0;
   double last_heard_ = -1.0;
+  std::function<double()> age_clock_;
   std::atomic<NmtState> heartbeat_state_{NmtState::kUnknown};
   std::atomic<double> last_heartbeat_{-1.0};
   std::string last_error_;

@@ -1,7 +1,6 @@
 #include "canopen_board.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include "hcl_drivers/transport/endpoint.h"
 
@@ -45,12 +44,13 @@ void CanopenBoard::init(BoardContext& ctx) {
   node_.reset();
   std::vector<uint32_t> extra = extraCobIds();
   node_ = std::make_unique<canopen::RemoteNode>(bus_, static_cast<uint8_t>(node_id_), extra);
+  node_->setAgeClock([] { return ros::Time::now().toSec(); });  // heartbeat ages: ROS time
   setup(ctx);
   node_->onBootUp([this] {
     ROS_WARN("%s: boot-up message from node %d: the board reset; restarting it", name_.c_str(), node_id_);
     need_start_ = need_configure_ = true;
   });
-  last_ok_ = ros::WallTime::now();
+  last_ok_ = ros::Time::now();
 }
 
 uint32_t CanopenBoard::cobIdParam(const ros::NodeHandle& pnh, const std::string& name, uint32_t fallback) {
@@ -141,7 +141,7 @@ bool CanopenBoard::service() {
       ok = false;
     }
   }
-  const ros::WallTime now = ros::WallTime::now();
+  const ros::Time now = ros::Time::now();
   if (ok) {
     last_ok_ = now;
     consecutive_failures_ = 0;
@@ -173,12 +173,6 @@ void CanopenBoard::readDeviceName() {
   device_name_ = name;
 }
 
-namespace {
-double steadyS() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-}  // namespace
-
 void CanopenBoard::configureHeartbeat() {
   heartbeat_watched_ = false;
   if (heartbeat_ms_ == 0) return;
@@ -190,14 +184,14 @@ void CanopenBoard::configureHeartbeat() {
     ROS_WARN("%s: node %d has no producer heartbeat (%s): not watched", name_.c_str(), node_id_, e.what());
     return;
   }
-  heartbeat_configured_at_ = steadyS();
+  heartbeat_configured_at_ = ros::Time::now().toSec();
   heartbeat_watched_ = true;
 }
 
 double CanopenBoard::heartbeatSilence() const {
   if (!heartbeat_watched_) return 0.0;
   const double hb_age = node_->heartbeatAge();
-  const double since_configured = steadyS() - heartbeat_configured_at_;
+  const double since_configured = ros::Time::now().toSec() - heartbeat_configured_at_;
   const double silence = hb_age < 0 ? since_configured : std::min(hb_age, since_configured);
   return silence > heartbeat_timeout_ ? silence : 0.0;
 }

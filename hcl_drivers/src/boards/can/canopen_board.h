@@ -95,12 +95,12 @@ class CanopenBoard : public Board {
   int heartbeat_ms_ = 100;
   double heartbeat_timeout_ = 0.3;
   std::atomic<bool> heartbeat_watched_{false};
-  std::atomic<double> heartbeat_configured_at_{0.0};  // steady clock [s]
+  std::atomic<double> heartbeat_configured_at_{0.0};  // ROS time [s]
   std::string device_name_;
   bool need_start_ = true;
   bool need_configure_ = true;
   int consecutive_failures_ = 0;
-  ros::WallTime last_ok_;
+  ros::Time last_ok_;
   std::atomic<bool> answering_{false};
   bool was_answering_ = false;
   std::atomic<unsigned long> refused_{0};

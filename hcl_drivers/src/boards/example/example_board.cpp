@@ -50,6 +50,7 @@ class ExampleBoard : public Board {
       return false;
     }
     std::vector<uint8_t> datagram;
+    // The reply window is wall time: the board (or its emulator) answers in wall time.
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(answer_timeout_);
     while (true) {
       const double left = (deadline - ros::WallTime::now()).toSec();

@@ -17,8 +17,8 @@ cancel(), forget(); by default a RosActionClient is made on first use.
 """
 import logging
 import threading
-import time
 
+from smart_brain.statemachine import clock
 from smart_brain.statemachine import goal_status
 from smart_brain.statemachine.goal_guard import GOAL_GUARD
 from smart_brain.statemachine.state import State
@@ -89,11 +89,11 @@ class ActionState(State):
         self._changed.set()
 
     def _wait_server(self, client):
-        deadline = time.monotonic() + self.server_wait_timeout
+        deadline = clock.now() + self.server_wait_timeout
         while not client.server_ready():
             if self.preempt_requested():
                 return 'preempted'
-            if time.monotonic() > deadline:
+            if clock.now() > deadline:
                 return 'timeout'
             self._changed.wait(0.02)
         return 'ready'
@@ -142,11 +142,11 @@ class ActionState(State):
             self._feedback_cb(ud, feedback)
 
     def _follow(self, ud, handle):
-        started = time.monotonic()
+        started = clock.now()
         cancelled_at = None
         reason = None
         while not handle.done():
-            now = time.monotonic()
+            now = clock.now()
             if cancelled_at is None:
                 if self.preempt_requested():
                     reason = 'preempted'

@@ -11,7 +11,8 @@ The same condition variable wakes states that wait for something else too (a mes
 goal's end), so a preempt interrupts every wait at once.
 """
 import threading
-import time
+
+from smart_brain.statemachine import clock
 
 
 class Preemption(object):
@@ -44,12 +45,12 @@ class Preemption(object):
             self._cond.notify_all()
 
     def wait(self, timeout=None, predicate=None):
-        """Wait until preempted, predicate() is true, or `timeout` seconds (monotonic) pass.
+        """Wait until preempted, predicate() is true, or `timeout` seconds pass on the brain's clock.
 
         Returns 'preempted', 'ready' or 'timeout'. The predicate is checked under the lock,
         so a notify() that follows a change it looks at cannot be missed.
         """
-        deadline = None if timeout is None else time.monotonic() + timeout
+        deadline = None if timeout is None else clock.now() + timeout
         with self._cond:
             while True:
                 if self._requested:
@@ -59,7 +60,7 @@ class Preemption(object):
                 if deadline is None:
                     self._cond.wait(1.0)
                 else:
-                    left = deadline - time.monotonic()
+                    left = deadline - clock.now()
                     if left <= 0:
                         return 'timeout'
-                    self._cond.wait(min(left, 1.0))
+                    self._cond.wait(min(clock.wall_slice(left), 1.0))

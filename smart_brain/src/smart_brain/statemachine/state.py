@@ -130,7 +130,7 @@ class CBState(State):
 
 
 class WaitState(State):
-    """Wait `duration` seconds (monotonic): 'succeeded', or 'preempted' at once when asked."""
+    """Wait `duration` seconds on the brain's clock: 'succeeded', or 'preempted' at once when asked."""
 
     def __init__(self, duration):
         State.__init__(self, outcomes=('succeeded', 'preempted'))

@@ -15,8 +15,8 @@ consumed exactly once; body and handlers run one at a time on one persistent Run
 """
 import logging
 import queue
-import time
 
+from smart_brain.statemachine import clock
 from smart_brain.statemachine.container import Container
 from smart_brain.statemachine.errors import InvalidTransitionError
 from smart_brain.statemachine.runner import Runner
@@ -81,7 +81,7 @@ class Supervisor(Container):
         return True
 
     def _note(self, what):
-        self.log.append((time.monotonic(), what))
+        self.log.append((clock.now(), what))
         log.info('supervisor: %s', what)
 
     def _start(self, label, state):
@@ -119,7 +119,7 @@ class Supervisor(Container):
                     self._runner.preempt()
             elif kind == 'poll':
                 if self._phase == 'BODY' and fired is None and not preempted:
-                    now = time.monotonic()
+                    now = clock.now()
                     for trig in self.triggers:
                         if trig.update(now):
                             fired = trig

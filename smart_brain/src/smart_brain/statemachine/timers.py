@@ -1,10 +1,11 @@
 """One shared timer thread for every deadline in the process (state timeouts, periodic
-introspection), so entering a state never creates a thread. Times are monotonic: a
-missing /clock under sim time cannot freeze a timeout."""
+introspection), so entering a state never creates a thread. Deadlines are on the brain's
+clock (clock.py: monotonic on the robot, ROS time in simulation)."""
 import heapq
 import itertools
 import threading
-import time
+
+from smart_brain.statemachine import clock
 
 
 class TimerHandle(object):
@@ -27,7 +28,7 @@ class _TimerThread(object):
     def call_later(self, delay, fn):
         handle = TimerHandle()
         with self._cond:
-            heapq.heappush(self._heap, (time.monotonic() + max(0.0, delay), next(self._seq), handle, fn))
+            heapq.heappush(self._heap, (clock.now() + max(0.0, delay), next(self._seq), handle, fn))
             if self._thread is None:
                 self._thread = threading.Thread(target=self._run, name='statemachine-timers', daemon=True)
                 self._thread.start()
@@ -37,8 +38,8 @@ class _TimerThread(object):
     def _run(self):
         while True:
             with self._cond:
-                while not self._heap or self._heap[0][0] > time.monotonic():
-                    self._cond.wait(None if not self._heap else self._heap[0][0] - time.monotonic())
+                while not self._heap or self._heap[0][0] > clock.now():
+                    self._cond.wait(None if not self._heap else clock.wall_slice(self._heap[0][0] - clock.now()))
                 _, _, handle, fn = heapq.heappop(self._heap)
             if not handle.cancelled:
                 try:

@@ -6,7 +6,7 @@ for `debounce` seconds and at least `holdoff` seconds have passed since its hand
 ended, so a flapping sensor neither fires on a single sample nor loops the handler.
 `handler` is a State whose outcome tells the supervisor what to do next (supervisor.py).
 """
-import time
+from smart_brain.statemachine import clock
 
 
 class Trigger(object):
@@ -38,7 +38,7 @@ class Trigger(object):
 
     def update(self, now=None):
         """Poll once; True when the trigger fires now."""
-        now = time.monotonic() if now is None else now
+        now = clock.now() if now is None else now
         if not self.condition():
             self._true_since = None
             return False
@@ -55,4 +55,4 @@ class Trigger(object):
 
     def handled(self, now=None):
         """The handler ended: the holdoff counts from here."""
-        self._handled_at = time.monotonic() if now is None else now
+        self._handled_at = clock.now() if now is None else now

@@ -9,11 +9,11 @@ Twists go to /hal/drive/cmd_vel as the pad's states arrive; when the pad goes st
 single zero is sent (the drive effector's own command timeout stops the wheels anyway).
 """
 import threading
-import time
 
 import rospy
 
 from smart_brain.slave import BrainSlave
+from smart_brain.statemachine import clock
 from smart_brain.strategy import Strategy, StrategyError, register
 
 CMD_VEL = '/hal/drive/cmd_vel'
@@ -22,7 +22,7 @@ CMD_VEL = '/hal/drive/cmd_vel'
 def _hand(command, height=0.0):
     def cb(strategy):
         from smart_brain.actions.hand import hand
-        strategy.slave.start('hand_%s_%s' % (command, time.monotonic()), hand(command, height=height))
+        strategy.slave.start('hand_%s_%s' % (command, clock.now()), hand(command, height=height))
     return cb
 
 
@@ -120,7 +120,7 @@ class JoystickStrategy(Strategy):
         if self._stopped:
             return
         with self._lock:
-            self._last_state = time.monotonic()
+            self._last_state = clock.now()
             self._stale_sent = False
         self.publish(*self.command_for(msg))
 
@@ -139,7 +139,7 @@ class JoystickStrategy(Strategy):
         if self._stopped:
             return False
         with self._lock:
-            stale = self._last_state is None or time.monotonic() - self._last_state > self.max_age
+            stale = self._last_state is None or clock.now() - self._last_state > self.max_age
             send = stale and not self._stale_sent
             if send:
                 self._stale_sent = True

@@ -9,8 +9,8 @@ Fires -> zero wheel speed at once, the running state is preempted (its driver go
 cancelled), the handler waits for the way to clear, then the state resumes.
 """
 import threading
-import time
 
+from smart_brain.statemachine import clock
 from smart_brain.statemachine import Trigger
 from smart_brain.triggers import Config, decision_param
 from smart_brain.triggers.wait_clear import WaitClear
@@ -42,7 +42,7 @@ class RangerWatch(object):
         if near and self._border is not None and self._border.explains(msg):
             near = False
         with self._lock:
-            self._latest[name] = (time.monotonic(), near)
+            self._latest[name] = (clock.now(), near)
         if near:
             self._notify()   # poll the trigger now, not at the next supervisor tick
 
@@ -51,7 +51,7 @@ class RangerWatch(object):
 
     def __call__(self):
         names = self._rear if self._backwards and self._rear else self._front
-        now = time.monotonic()
+        now = clock.now()
         with self._lock:
             return any(n in self._latest and now - self._latest[n][0] <= self.max_age and self._latest[n][1]
                        for n in names)

@@ -5,8 +5,8 @@ debounce, holdoff, clear_time, max_wait, then. Handler: as opponent_ahead (zero 
 wait until clear, resume).
 """
 import threading
-import time
 
+from smart_brain.statemachine import clock
 from smart_brain.actions.stop import publish_zero
 from smart_brain.statemachine import Trigger
 from smart_brain.triggers import Config, decision_param
@@ -27,14 +27,14 @@ class FlagWatch(object):
 
     def _on_msg(self, msg):
         with self._lock:
-            self._value = (time.monotonic(), msg.data)
+            self._value = (clock.now(), msg.data)
         if msg.data:
             self._notify()
 
     def __call__(self):
         with self._lock:
             stamp, value = self._value
-        return value and time.monotonic() - stamp <= self.max_age
+        return value and clock.now() - stamp <= self.max_age
 
 
 def make(values):

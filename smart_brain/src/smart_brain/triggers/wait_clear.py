@@ -1,10 +1,9 @@
 """WaitClear: the common handler: stop the wheels, wait until the trigger's condition has
 been false for `clear_time`, then 'resume'; if it is still true after `max_wait`, give
 the configured decision instead (resume / restart / aborted / a state label)."""
-import time
 
 from smart_brain.actions.stop import publish_zero
-from smart_brain.statemachine import State
+from smart_brain.statemachine import State, clock
 
 
 class WaitClear(State):
@@ -19,10 +18,10 @@ class WaitClear(State):
     def execute(self, ud):
         if self.stop:
             publish_zero()
-        start = time.monotonic()
+        start = clock.now()
         clear_since = None
         while True:
-            now = time.monotonic()
+            now = clock.now()
             if self._condition():
                 clear_since = None
             elif clear_since is None:
