@@ -4,7 +4,8 @@
 //
 // Parameters (private, /sim/...):
 //   ~seed (int >= 0, default 1)               same seed + same timed commands = same trajectory
-//   ~real_time_factor (>= 0, default 1.0)     0: as fast as the machine goes
+//   ~real_time_factor (>= 0, default 1.0)     0: as fast as the machine goes (the factor that keeps
+//                                             the machine just short of saturation, machine_pace.h)
 //   ~paused (bool, default false)             start frozen at t = 0 (tests script, then resume)
 //   ~truth_rate (sim Hz, default 50)          /sim/ground_truth, /sim/opponent
 //   ~elements_rate, ~match_rate, ~marker_rate (sim Hz, default 10, 10, 5)
@@ -41,6 +42,7 @@
 #include <memory>
 #include <thread>
 
+#include "machine_pace.h"
 #include "robot_sim/firmware/firmware_host.h"
 #include "robot_sim/world/fault_schedule.h"
 #include "robot_sim/world/ros_world_io.h"
@@ -264,6 +266,9 @@ class Simulator {
     std::size_t last_unknown = 0;
     auto last_names_check = Clock::now();
     const auto clock_gap = std::chrono::duration<double>(1.0 / clock_max_rate_);
+    MachinePace machine;
+    double pace = rtf_ > 0.0 ? rtf_ : machine.factor();
+    auto last_pace = Clock::now();
     while (running_ && ros::ok()) {
       if (paused_) {
         publishClock(world_->time());
@@ -308,12 +313,23 @@ class Simulator {
         const double achieved = (t - report_sim) / std::chrono::duration<double>(now - last_report).count();
         if (rtf_ > 0.0 && achieved < 0.9 * rtf_)
           ROS_WARN("simulator: achieved real-time factor %.2f of %.2f requested", achieved, rtf_);
+        else if (rtf_ == 0.0)
+          ROS_INFO("simulator: as fast as the machine goes: real-time factor %.2f (machine %.0f %% busy)", achieved,
+                   100.0 * machine.lastBusy());
         last_report = now;
         report_sim = t;
       }
-      if (rtf_ > 0.0) {
+      if (rtf_ == 0.0 && now - last_pace > std::chrono::seconds(1)) {
+        last_pace = now;
+        if (machine.update()) {
+          pace = machine.factor();
+          anchor_wall = now;  // the new factor counts from here
+          anchor_sim = t;
+        }
+      }
+      {
         const auto target = anchor_wall + std::chrono::duration_cast<Clock::duration>(
-                                              std::chrono::duration<double>((t - anchor_sim) / rtf_));
+                                              std::chrono::duration<double>((t - anchor_sim) / pace));
         if (target > now + std::chrono::microseconds(200)) {
           std::this_thread::sleep_until(target);
         } else if (now - target > std::chrono::milliseconds(200)) {

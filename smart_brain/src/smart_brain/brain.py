@@ -160,8 +160,8 @@ class Brain(object):
         last = None
         started = time.monotonic()
         while not rospy.is_shutdown() and not (self.timer is not None and self.timer.started) and not self.match_over:
-            self.ready, self.readiness_text = self.readiness.check()
-            if self.readiness_text != last:
+            self.ready, self.readiness_text, what = self.readiness.check()
+            if what != last:  # said once per change of what is (not) ready, not per new figure
                 if self.ready and self.timer is not None:
                     rospy.loginfo('brain: ready: waiting for the start signal on %s (or %s)', self.start_topic,
                                   rospy.resolve_name('~start'))
@@ -171,7 +171,7 @@ class Brain(object):
                     rospy.loginfo('brain: %s', self.readiness_text)  # still coming up
                 else:
                     rospy.logwarn('brain: %s', self.readiness_text)
-                last = self.readiness_text
+                last = what
             if self.timer is not None:
                 self._display_pub.publish(self._String('ready: pull cord' if self.ready else self.readiness_text))
             clock.sleep(0.5)  # the display text stays fresh (2 s) on the HMI at any speed

@@ -88,7 +88,9 @@ class Readiness(object):
                 self._last_words[msg.name] = msg.msg.splitlines()[0] if msg.msg else ''
 
     def check(self):
-        """(ready, text): text is 'ready' or 'not ready: <what, why>; <what, why>'."""
+        """(ready, text, what): text is 'ready' or 'not ready: <what, why>; <what, why>', `what`
+        the names of what is not ready (it changes when something new fails or recovers, not
+        when a reason's figures do)."""
         problems = []
         for node in self.nodes:
             if node_alive(self._master, node):
@@ -111,5 +113,6 @@ class Readiness(object):
         else:
             problems += diagnostics_problems(statuses, self.optional)
         if not problems:
-            return True, 'ready'
-        return False, 'not ready: ' + '; '.join(problems)
+            return True, 'ready', ()
+        what = tuple(p.split(' is ')[0].split(' died')[0] for p in problems)
+        return False, 'not ready: ' + '; '.join(problems), what
