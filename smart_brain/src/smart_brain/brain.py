@@ -216,9 +216,11 @@ class Brain(object):
         from smart_brain.actions.stop import publish_zero
         publish_zero(times=3)
         self.deactivated = self._deactivate_effectors()
-        rospy.logwarn('brain: MATCH END after %.1f s: %d goal(s) cancelled, effectors %s (%.0f ms)',
-                      self.timer.elapsed(), cancelled, 'deactivated' if self.deactivated else 'NOT deactivated',
-                      1000 * (time.monotonic() - t0))
+        # The match end is routine (INFO); effectors left on are not (ERROR).
+        log = rospy.loginfo if self.deactivated else rospy.logerr
+        log('brain: MATCH END after %.1f s: %d goal(s) cancelled, effectors %s (%.0f ms)',
+            self.timer.elapsed(), cancelled, 'deactivated' if self.deactivated else 'NOT deactivated',
+            1000 * (time.monotonic() - t0))
         self.publish_status()
         self.slave.stop()
         self.strategy.stop()
