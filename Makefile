@@ -3,6 +3,10 @@
 #   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1]  install, build, run one simulated
 #                               match headless (also logion; skeleton runs until Ctrl-C), print
 #                               the score (ours, opponent), bag and report paths
+#   make matches [ROBOT=eurobot2009] [N=20] [SEED=1] [FACTOR=0]  install, build, run N seeded
+#                               matches headless one at a time (opponent: random walk, route,
+#                               blocker in turn), a row per match, report/matches/ (bags, reports,
+#                               summary PNG); exits non-zero when a match broke an invariant
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
@@ -18,6 +22,8 @@ export ROS_LANG_DISABLE := genlisp:geneus:gennodejs
 ROBOT ?= eurobot2009
 STRATEGY ?=
 SEED ?= 1
+N ?= 20
+FACTOR ?= 0
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 JOBS ?= 2
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -59,6 +65,12 @@ build: deps
 
 run: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY))
+
+# N seeded matches (seeds SEED, SEED+1, ...) at real_time_factor FACTOR (0: as fast as the machine goes).
+.PHONY: matches
+matches: build
+	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(N) --seed $(SEED) --factor $(FACTOR) \
+	  $(if $(STRATEGY),--strategy $(STRATEGY))
 
 test: deps
 	@bash $(ROOT)/scripts/can_vm_prepare.sh --background

@@ -2,6 +2,7 @@
 """`make run`: one simulated match of a robot, headless, from start cord to report.
 
     scripts/run_match.py ROBOT [--out DIR] [--strategy NAME] [--seed N] [--real-time-factor F]
+                         [--overlay PARAMS.yaml]
 
 Starts launch/ROBOT.launch (simulator, HCL, HAL, brain) with record:=true, waits until the
 brain says the robot is ready (every product node runs, every board and device OK: the "ready:
@@ -20,6 +21,7 @@ taken camera port stops the simulator.
 import argparse
 import os
 import random
+import re
 import shutil
 import signal
 import socket
@@ -42,6 +44,9 @@ def main():
     ap.add_argument('--strategy', default=None)
     ap.add_argument('--seed', default='1')
     ap.add_argument('--real-time-factor', default='1.0', help='simulated seconds per wall second')
+    ap.add_argument('--overlay', default=None,
+                    help='YAML of parameters loaded after the config (the launch argument overlay), '
+                         'e.g. another opponent: sim: {world: {opponent: {...}}}')
     ap.add_argument('--startup-timeout', type=float, default=120.0, help='[s, wall] to reach waiting_for_start')
     ap.add_argument('--match-timeout', type=float, default=400.0, help='[s, wall] for the match to end')
     args = ap.parse_args()
@@ -76,6 +81,10 @@ def main():
         cmd.append('sim_dir:=' + sim_dir)
     if args.strategy:
         cmd.append('strategy:=' + args.strategy)
+    if args.overlay:
+        if 'name="overlay"' not in declared:
+            sys.exit('run: launch/%s.launch has no overlay argument' % args.robot)
+        cmd.append('overlay:=' + os.path.abspath(args.overlay))
     log('starting the simulated %s robot headless: %s' % (args.robot, ' '.join(cmd[2:])))
     launch_log = open(os.path.join(args.out, args.robot + '_launch.log'), 'w')
     proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=os.setsid)
@@ -155,9 +164,9 @@ def follow_match(args, proc, launch_log):
             log('not ready: the launch ended before the match: %s' % why)
             return False
         readiness = status['msg'].readiness if status['msg'] else 'not ready: the brain has not reported yet'
-        if readiness != said:
-            log(readiness)
-            said = readiness
+        if re.sub(r'[0-9.]+', '', readiness) != said:  # what changed, not a figure
+            log(readiness if len(readiness) < 400 else readiness[:400] + ' ...')
+            said = re.sub(r'[0-9.]+', '', readiness)
         if time.monotonic() > deadline:
             log('the robot never became ready in %.0f s (brain: %s, %s); see the launch output'
                 % (args.startup_timeout, state(), readiness))

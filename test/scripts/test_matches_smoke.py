@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""scripts/run_matches.py as `make matches` runs it, with N=2 (launch/matches_smoke.test):
+eurobot2009, seeds 1 and 2, at the test's ~factor (default 1.0). The runner exits 0, both
+matches ended (run_match.py said so and kept a bag and a report in each match folder), the
+summary PNG is written and the closing line parses with 2 matches and 0 violations."""
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import rospy
+import rostest
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
+ROBOT, N, SEED = 'eurobot2009', 2, 1
+CLOSING = re.compile(r'^matches (?P<n>\d+) score_mean (?P<mean>\S+) score_min (?P<min>\S+) '
+                     r'violations (?P<violations>\d+) wall_s (?P<wall>\S+) factor (?P<factor>\S+)$')
+RUNNER_TIMEOUT = 1100.0  # [s, wall]: below the test's time-limit, so a hang fails here with the output
+
+
+class MatchesSmokeTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('test_matches_smoke')
+        cls.factor = float(rospy.get_param('~factor', 1.0))
+        cls.out = tempfile.mkdtemp(prefix='matches_smoke_')
+        cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'run_matches.py'), ROBOT, '--n', str(N),
+               '--seed', str(SEED), '--factor', repr(cls.factor), '--out', cls.out]
+        # A session of its own: on a timeout, Ctrl-C reaches the runner and its run_match.py, which
+        # stops the robot it launched (a plain kill would leave that simulation running).
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                                start_new_session=True)
+        try:
+            cls.output, cls.rc = proc.communicate(timeout=RUNNER_TIMEOUT)[0], proc.returncode
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGINT)
+            try:
+                output = proc.communicate(timeout=90)[0]
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                output = proc.communicate()[0]
+            cls.rc, cls.output = None, output + '\n(run_matches.py did not finish in %.0f s)' % RUNNER_TIMEOUT
+        print(cls.output)  # the runner's progress and table in the test's log
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.rc == 0:
+            shutil.rmtree(cls.out, ignore_errors=True)  # ~130 MB of bags; kept for a look when it failed
+
+    def closing(self):
+        lines = self.output.strip().splitlines()
+        self.assertTrue(lines, 'no output')
+        m = CLOSING.match(lines[-1])
+        self.assertIsNotNone(m, 'closing line: %r' % lines[-1])
+        return m
+
+    def test_runner_exits_zero(self):
+        self.assertEqual(self.rc, 0, self.output[-3000:])
+
+    def test_closing_line_parses_without_violations(self):
+        m = self.closing()
+        self.assertEqual(int(m.group('n')), N)
+        self.assertEqual(int(m.group('violations')), 0, self.output[-3000:])
+        self.assertAlmostEqual(float(m.group('factor')), self.factor)
+        self.assertGreater(float(m.group('wall')), 0.0)
+        self.assertFalse(math.isnan(float(m.group('mean'))), 'no match has a score')
+        self.assertFalse(math.isnan(float(m.group('min'))))
+        self.assertNotIn('violation:', self.output)
+
+    def test_both_matches_ended_with_bag_and_report(self):
+        for seed in range(SEED, SEED + N):
+            folder = os.path.join(self.out, '%s_seed%d' % (ROBOT, seed))
+            with open(os.path.join(folder, 'run_match.out')) as f:
+                said = f.read()
+            self.assertIn('run: match ended', said, 'seed %d: %s' % (seed, said[-2000:]))
+            for name in ('_match.bag', '_match.png', '_launch.log'):
+                self.assertTrue(os.path.exists(os.path.join(folder, ROBOT + name)), 'seed %d: no %s' % (seed, name))
+            self.assertTrue(os.path.exists(os.path.join(folder, 'opponent.yaml')))
+        self.assertTrue(os.path.exists(os.path.join(self.out, ROBOT + '_matches.png')))
+
+    def test_one_row_per_match(self):
+        rows = [l for l in self.output.splitlines() if re.match(r'^\s*\d+ (random_walk|route|blocker) ', l)]
+        self.assertEqual([int(r.split()[0]) for r in rows], list(range(SEED, SEED + N)), self.output[-3000:])
+        self.assertEqual([r.split()[1] for r in rows], ['random_walk', 'route'])
+
+
+if __name__ == '__main__':
+    rostest.rosrun('system_tests', 'matches_smoke', MatchesSmokeTest, sys.argv)
