@@ -167,6 +167,46 @@ class TriggerTest(unittest.TestCase):
         self.assertEqual(trig.fired, 2)
 
 
+class KeypadStrategyTest(unittest.TestCase):
+    """Brain._on_hmi: the keypad's strategy choice before the start switches the strategy; the
+    first message (the display's preselection) and choices after the start do not."""
+
+    class FakeBrain(object):
+        def __init__(self):
+            self.timer = MatchTimer(90.0, lambda: None, lambda: None)
+            self.start_topic = '/hal/hmi/input'
+            self._hmi_strategy = None
+            self.ready = True
+            self.switches = []
+
+        def request_switch(self, name):
+            self.switches.append(name)
+            return True, ''
+
+        def _warn_if_not_ready(self):
+            pass
+
+    class Input(object):
+        def __init__(self, strategy, started=False):
+            self.strategy, self.started = strategy, started
+
+    def on_hmi(self, brain, msg):
+        import smart_brain.brain as brain_module
+        brain_module.Brain._on_hmi(brain, msg)
+
+    def test_only_a_new_choice_before_the_start_switches(self):
+        b = self.FakeBrain()
+        self.on_hmi(b, self.Input('match'))
+        self.assertEqual(b.switches, [], 'the preselection does not override the launch\'s strategy')
+        self.on_hmi(b, self.Input('match'))
+        self.on_hmi(b, self.Input('homologation'))
+        self.assertEqual(b.switches, ['homologation'])
+        self.on_hmi(b, self.Input('homologation', started=True))
+        self.assertTrue(b.timer.started)
+        self.on_hmi(b, self.Input('joystick', started=True))
+        self.assertEqual(b.switches, ['homologation'], 'no switch after the start')
+
+
 class RegistryTest(unittest.TestCase):
     def test_every_strategy_of_the_issue_is_registered(self):
         for name in ('example', 'homologation', 'match', 'match2008', 'match2009', 'joystick'):
