@@ -113,3 +113,23 @@ class ScriptedServer(object):
                     g.finish(self.auto)
             threading.Thread(target=later, daemon=True).start()
         return g
+
+
+class SimClock(object):
+    """A simulated clock the test moves by hand (set, advance): it can jump, stall and run fast."""
+
+    def __init__(self, t=100.0):
+        self.t = t
+        self.lock = threading.Lock()
+
+    def __call__(self):
+        with self.lock:
+            return self.t
+
+    def set(self, t):
+        with self.lock:
+            self.t = t
+
+    def advance(self, dt):
+        with self.lock:
+            self.t += dt

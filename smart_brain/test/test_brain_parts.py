@@ -9,7 +9,7 @@ import sys  # noqa: E402
 
 # catkin runs nose without adding this folder to the path; the shared helpers live here.
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sm_helpers import Sleeper
+from sm_helpers import SimClock, Sleeper
 from smart_brain import strategy as strategies
 from smart_brain.match_timer import MatchTimer
 from smart_brain.slave import BrainSlave
@@ -80,25 +80,9 @@ class MatchTimerTest(unittest.TestCase):
         self.assertTrue(ended.wait(1.0))
 
 
-class FakeClock(object):
-    """A simulated clock the test moves by hand: it can jump, stall and run fast."""
-
-    def __init__(self, t=100.0):
-        self.t = t
-        self.lock = threading.Lock()
-
-    def __call__(self):
-        with self.lock:
-            return self.t
-
-    def set(self, t):
-        with self.lock:
-            self.t = t
-
-
 class MatchTimerOnASimulatedClockTest(unittest.TestCase):
     def make(self, duration=90.0):
-        self.clock = FakeClock()
+        self.clock = SimClock()
         self.ended = threading.Event()
         return MatchTimer(duration, lambda: None, self.ended.set, clock=self.clock, poll=0.002)
 

@@ -9,26 +9,13 @@ import os  # noqa: E402
 import sys  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sm_helpers import SimClock
 from smart_brain.statemachine import Trigger, WaitState, clock, timers
-
-
-class SimClock(object):
-    def __init__(self):
-        self.t = 1000.0
-        self.lock = threading.Lock()
-
-    def __call__(self):
-        with self.lock:
-            return self.t
-
-    def advance(self, dt):
-        with self.lock:
-            self.t += dt
 
 
 class ClockTest(unittest.TestCase):
     def setUp(self):
-        self.sim = SimClock()
+        self.sim = SimClock(1000.0)
         clock.use(self.sim, simulated=True)
 
     def tearDown(self):
