@@ -96,10 +96,10 @@ class RecordReplayTest(unittest.TestCase):
             rc = replay.wait(timeout=60.0)  # the launch ends with the bag, cleanly
         except subprocess.TimeoutExpired:
             self.fail('replay did not end with the bag')
-        self.assertEqual(rc, 0, 'replay.launch did not end cleanly at the bag end')
         finally:
             stop(replay)
             sub.unregister()
+        self.assertEqual(rc, 0, 'replay.launch did not end cleanly at the bag end')
         with lock:
             got = list(replayed)
         self.assertGreater(len(got), 0.6 * len(recorded), 'replayed %d readings, match had %d' % (len(got), len(recorded)))

@@ -6,12 +6,8 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstring>
-#include <map>
-#include <set>
 
-#include "hcl_drivers/transport/can_bus.h"
 
 namespace robot_sim {
 
@@ -63,36 +59,10 @@ std::string str(XmlRpc::XmlRpcValue& block, const char* key) {
              : std::string();
 }
 
-// CANopen nodes that send a heartbeat or boot-up (COB-ID 0x700 + node) on the bus within
-// `listen_s`: another emulator (or a real board) already is that node.
-std::set<int> nodesAnswering(const std::string& url, const std::set<int>& nodes, double listen_s) {
-  std::set<int> found;
-  std::shared_ptr<hcl_drivers::transport::CanBus> bus;
-  try {
-    bus = hcl_drivers::transport::openCanBus(url);
-  } catch (const std::exception&) {
-    return found;  // the emulator itself will say why the bus cannot be opened
-  }
-  if (!bus) return found;
-  hcl_drivers::transport::CanFilter heartbeats;
-  heartbeats.id = 0x700;
-  heartbeats.mask = 0x780;
-  auto channel = bus->open({heartbeats});
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(listen_s);
-  hcl_drivers::transport::CanFrame f;
-  while (std::chrono::steady_clock::now() < end && found.size() < nodes.size()) {
-    const double left = std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count();
-    if (left > 0 && channel->receive(f, left) && !f.rtr && nodes.count(static_cast<int>(f.id - 0x700)))
-      found.insert(static_cast<int>(f.id - 0x700));
-  }
-  return found;
-}
-
 }  // namespace
 
-std::vector<std::string> channelsInUse(XmlRpc::XmlRpcValue& firmware, double can_listen_s) {
+std::vector<std::string> channelsInUse(XmlRpc::XmlRpcValue& firmware) {
   std::vector<std::string> why;
-  std::map<std::string, std::map<int, std::string>> can_nodes;  // bus -> node id -> emulator
   if (firmware.getType() != XmlRpc::XmlRpcValue::TypeStruct) return why;
   for (auto& entry : firmware) {
     XmlRpc::XmlRpcValue& block = entry.second;
@@ -113,16 +83,6 @@ std::vector<std::string> channelsInUse(XmlRpc::XmlRpcValue& firmware, double can
       const std::string in_use = pathInUse(path);
       if (!in_use.empty()) why.push_back(name + ": " + in_use);
     }
-    const std::string bus = str(block, "bus");
-    if ((bus.rfind("udp://", 0) == 0 || bus.rfind("socketcan://", 0) == 0) && block.hasMember("node_id") &&
-        block["node_id"].getType() == XmlRpc::XmlRpcValue::TypeInt)
-      can_nodes[bus][static_cast<int>(block["node_id"])] = name;
-  }
-  for (const auto& [bus, nodes] : can_nodes) {
-    std::set<int> ids;
-    for (const auto& kv : nodes) ids.insert(kv.first);
-    for (int id : nodesAnswering(bus, ids, can_listen_s))
-      why.push_back(nodes.at(id) + ": CAN node " + std::to_string(id) + " already answers on " + bus);
   }
   return why;
 }

@@ -13,10 +13,10 @@
 namespace robot_sim {
 
 // Every reason the emulator blocks under `firmware` cannot have their channels now ("camera:
-// TCP port 27230 is taken", "motor_board: CAN node 10 already answers on udp://127.0.0.1:27000",
-// "beacons: /tmp/.../beacons.tty is the pty of a running simulation"); empty when all are free.
-// Looks at the parameters `port` (a TCP port number, or a path), `bus` (udp://, socketcan:// with
-// `node_id`, or sim://PATH), `device` and `endpoint`.
-std::vector<std::string> channelsInUse(XmlRpc::XmlRpcValue& firmware, double can_listen_s = 0.4);
+// TCP port 27230 is taken", "beacons: /tmp/.../beacons.tty is the pty of a running simulation");
+// empty when all are free. Looks at the parameters `port` (a TCP port number, or a path), `bus`
+// (sim://PATH) and `device`. A shared CAN bus is not judged: listening on it for another
+// simulation's boards delayed this one's emulators past their drivers' first configuration.
+std::vector<std::string> channelsInUse(XmlRpc::XmlRpcValue& firmware);
 
 }  // namespace robot_sim
