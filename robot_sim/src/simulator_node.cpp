@@ -362,8 +362,8 @@ class Simulator {
       std_msgs::Int32 score;
       score.data = m.score_ours;
       score_pub_.publish(score);
-      const std::vector<RefereeEvent> events = world_->scoreEvents();
-      if (events.size() != published_events_) {
+      if (world_->scoreEventCount() != published_events_) {  // copied only when there is news
+        const std::vector<RefereeEvent> events = world_->scoreEvents();
         score_events_pub_.publish(toScoreEventsMsg(events, stamp));
         published_events_ = events.size();
       }

@@ -7,6 +7,7 @@
 
 #include "robot_sim/world/config.h"
 #include "robot_sim/world/sim_world.h"
+#include "world_test_support.h"
 
 using namespace robot_sim;
 
@@ -63,12 +64,6 @@ GameElement column(double x, double y) {
   e.height = 0.03;
   return e;
 }
-
-void run(SimWorld& w, double seconds) {
-  const long n = std::lround(seconds / w.dt());
-  for (long i = 0; i < n; ++i) w.step();
-}
-
 }  // namespace
 
 TEST(Referee, OurColourIsTheStartZoneWeStandInAtTheStart) {

@@ -8,6 +8,7 @@
 #include "robot_sim/world/diff_drive.h"
 #include "robot_sim/world/motor_model.h"
 #include "robot_sim/world/sim_world.h"
+#include "world_test_support.h"
 
 using namespace robot_sim;
 
@@ -54,10 +55,6 @@ WorldConfig testConfig() {
   return c;
 }
 
-void run(SimWorld& w, double seconds) {
-  const long n = std::lround(seconds / w.dt());
-  for (long i = 0; i < n; ++i) w.step();
-}
 }  // namespace
 
 TEST(SimWorld, StraightRunIntegratesToExpectedPoseAndTicks) {

@@ -41,16 +41,6 @@ uint32 seq
 time stamp
 string frame_id
 '''
-MATCH_STATE_NEW = '''std_msgs/Header header
-string year
-bool started
-bool over
-float64 elapsed
-float64 remaining
-int32 score
-int32 score_ours
-int32 score_opponent
-''' + HEADER
 MATCH_STATE_OLD = '''std_msgs/Header header
 string year
 bool started
@@ -58,7 +48,11 @@ bool over
 float64 elapsed
 float64 remaining
 int32 score
+'''
+MATCH_STATE_NEW = MATCH_STATE_OLD + '''int32 score_ours
+int32 score_opponent
 ''' + HEADER
+MATCH_STATE_OLD += HEADER
 SCORE_EVENTS = '''std_msgs/Header header
 robot_sim/ScoreEvent[] events
 ''' + HEADER + '''================================================================================

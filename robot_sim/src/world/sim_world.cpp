@@ -607,6 +607,11 @@ MatchProgress SimWorld::match() const {
   return m;
 }
 
+std::size_t SimWorld::scoreEventCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return score_events_.size();
+}
+
 std::vector<RefereeEvent> SimWorld::scoreEvents() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return score_events_;

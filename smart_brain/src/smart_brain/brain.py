@@ -158,7 +158,7 @@ class Brain(object):
         """Twice a second until the match starts: is the robot ready? Says so on change (log,
         status, the HMI display), so a team reads "ready" only when it is."""
         last = None
-        started = time.monotonic()
+        started = time.monotonic()  # wall: the grace covers processes starting up, in wall time
         while not rospy.is_shutdown() and not (self.timer is not None and self.timer.started) and not self.match_over:
             self.ready, self.readiness_text, what = self.readiness.check()
             if what != last:  # said once per change of what is (not) ready, not per new figure
@@ -210,7 +210,7 @@ class Brain(object):
 
     # ---- match end: the guard above every strategy ----
     def _on_match_end(self):
-        t0 = time.monotonic()
+        t0 = time.monotonic()  # wall: how long the stop took to execute, reported in ms
         self.match_over = True
         cancelled = GOAL_GUARD.close('match end')
         from smart_brain.actions.stop import publish_zero

@@ -99,6 +99,7 @@ class SimWorld : public World {
   BodyTruth opponentTruth() const;
   MatchProgress match() const;
   std::vector<RefereeEvent> scoreEvents() const;  // every event since the start, in order
+  std::size_t scoreEventCount() const;
   // Starts the match as the start cord does (the cord switch opens); false if it had started.
   bool startMatch();
   std::vector<GameElement> elements() const;
