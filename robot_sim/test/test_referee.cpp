@@ -16,16 +16,7 @@ WorldConfig baseConfig() {
   WorldConfig c;
   c.robot.start = Pose2D{0.25, 1.8, 0.0};
   c.robot.radius = 0.15;
-  MotorConfig m;
-  m.max_speed = 20.0;
-  m.time_constant = 0.05;
-  m.max_accel = 60.0;
-  m.drive = "left";
-  c.robot.motors["left"] = m;
-  m.drive = "right";
-  c.robot.motors["right"] = m;
-  c.robot.slip.per_accel = 0.0;
-  c.robot.slip.noise_std = 0.0;
+  addGripDriveMotors(c);
   SwitchConfig cord;
   cord.type = "manual";
   cord.initially_closed = true;

@@ -20,14 +20,7 @@ WorldConfig testConfig() {
   c.robot.radius = 0.15;
   c.robot.wheel_radius = 0.035;
   c.robot.wheel_base = 0.25;
-  MotorConfig m;
-  m.max_speed = 20.0;
-  m.time_constant = 0.05;
-  m.max_accel = 60.0;
-  m.drive = "left";
-  c.robot.motors["left"] = m;
-  m.drive = "right";
-  c.robot.motors["right"] = m;
+  addGripDriveMotors(c);
   EncoderConfig e;
   e.motor = "left";
   e.ticks_per_rev = 512;
@@ -48,8 +41,6 @@ WorldConfig testConfig() {
   c.robot.switches["bumper_front"] = b;
   b.angle = M_PI;
   c.robot.switches["bumper_back"] = b;
-  c.robot.slip.per_accel = 0.0;
-  c.robot.slip.noise_std = 0.0;
   c.opponent.enabled = false;
   c.table.beacons = {{-0.062, -0.062}, {-0.062, 2.162}, {3.062, 1.05}};
   return c;
