@@ -147,3 +147,97 @@ class SupervisorTest(unittest.TestCase):
 
 if __name__ == '__main__':
     unittest.main()
+
+
+class Outcomes(CBState):
+    """Ends with the next outcome of a script (the last one repeats), counting its runs."""
+
+    def __init__(self, script):
+        self.script = list(script)
+        self.runs = 0
+        CBState.__init__(self, self._next, outcomes=sorted(set(self.script)))
+
+    def _next(self, ud):
+        self.runs += 1
+        return self.script[min(self.runs, len(self.script)) - 1]
+
+
+def task_machine(task):
+    sm = StateMachine(outcomes=['succeeded', 'aborted', 'preempted'])
+    sm.add('TASK', task, transitions={o: o for o in task.get_registered_outcomes()})
+    return sm
+
+
+class KeepPlayingTest(unittest.TestCase):
+    """restart_on: a strategy gives up on a task, not on the match."""
+
+    def test_an_aborted_body_starts_again_after_a_growing_back_off(self):
+        task = Outcomes(['aborted', 'aborted', 'aborted', 'succeeded'])
+        sup = Supervisor(task_machine(task), restart_on=('aborted',), backoff=(0.05, 0.4))
+        t0 = time.monotonic()
+        runner = Runner('sup')
+        runner.start(sup)
+        self.assertTrue(runner.wait(5.0))
+        self.assertEqual(runner.outcome, 'succeeded')
+        self.assertEqual((task.runs, sup.restarts), (4, 3))
+        # Back-offs 0.05, 0.1, 0.2: the body ends at once each time, so each one doubles.
+        self.assertGreaterEqual(time.monotonic() - t0, 0.35)
+        notes = [what for _, what in sup.log]
+        self.assertIn('body ended aborted: starting it again in 0.1 s', notes)
+        self.assertIn('body ended aborted: starting it again in 0.2 s', notes)
+
+    def test_before_restart_can_say_nothing_is_left(self):
+        task = Outcomes(['aborted'])
+        asked = []
+
+        def before_restart(outcome):
+            asked.append(outcome)
+            return len(asked) < 3
+
+        sup = Supervisor(task_machine(task), restart_on=('aborted',), backoff=(0.0, 0.0), before_restart=before_restart)
+        runner = Runner('sup')
+        runner.start(sup)
+        self.assertTrue(runner.wait(5.0))
+        self.assertEqual(runner.outcome, 'aborted')
+        self.assertEqual((task.runs, asked), (3, ['aborted'] * 3))
+
+    def test_outcomes_not_listed_end_the_supervisor(self):
+        task = Outcomes(['succeeded'])
+        sup = Supervisor(task_machine(task), restart_on=('aborted',))
+        runner = Runner('sup')
+        runner.start(sup)
+        self.assertTrue(runner.wait(5.0))
+        self.assertEqual((runner.outcome, task.runs, sup.restarts), ('succeeded', 1, 0))
+
+    def test_a_handler_that_aborts_is_restarted_too(self):
+        work = Sleeper(0.3)
+        sm, first, _ = body_machine(work)
+        flag = Flag()
+        sup = Supervisor(sm, [Trigger('obstacle', flag, handler('aborted', flag), debounce=0.0)],
+                         restart_on=('aborted',), backoff=(0.05, 0.05))
+        runner = Runner('sup')
+        runner.start(sup)
+        self.assertTrue(work.started.wait(2.0))
+        flag.value = True
+        self.assertTrue(runner.wait(5.0))
+        self.assertEqual(runner.outcome, 'done')
+        self.assertEqual((first.runs, sup.restarts), (2, 1))
+
+    def test_a_preempt_during_the_back_off_ends_at_once(self):
+        task = Outcomes(['aborted'])
+        sup = Supervisor(task_machine(task), restart_on=('aborted',), backoff=(30.0, 30.0))
+        runner = Runner('sup')
+        runner.start(sup)
+        deadline = time.monotonic() + 2.0
+        while task.runs == 0 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        time.sleep(0.1)
+        t0 = time.monotonic()
+        runner.preempt()
+        self.assertTrue(runner.wait(2.0))
+        self.assertEqual(runner.outcome, 'preempted')
+        self.assertLess(time.monotonic() - t0, 1.0)
+
+    def test_a_bad_back_off_is_refused(self):
+        with self.assertRaises(ValueError):
+            Supervisor(task_machine(Outcomes(['aborted'])), restart_on=('aborted',), backoff=(2.0, 1.0))

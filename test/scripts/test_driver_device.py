@@ -187,8 +187,11 @@ class DriverDeviceTest(unittest.TestCase):
         r = self.goto.get_result()
         self.assertEqual(r.code, GotoResult.LOCALIZATION_STALE, r.message)
         self.assertIn('stale', r.message)
+        self.assertIn('held for longer than max_hold', r.message)
         time.sleep(0.2)
         self.assertStoppedAfter(t0, within=0.6 + 0.05 + 0.25)  # max_pose_age + one localization period + slack
+        # The wheels stop when the hold begins; the goal ends max_hold later with no command between.
+        self.assertGreaterEqual(time.monotonic() - t0, 0.6 + 1.0)
 
     def test_dead_odometry_stops_a_relative_move(self):
         # A robot builder's guarantee: when odometry really dies, the wheels stop (max_odom_age).
@@ -223,10 +226,56 @@ class DriverDeviceTest(unittest.TestCase):
         r = self.goto.get_result()
         self.assertEqual(r.code, GotoResult.MOTOR_FAULT, r.message)
         self.assertIn('motor board stale', r.message)
+        self.assertIn('held for longer than max_hold', r.message)
         d.status[0].level = DiagnosticStatus.OK
         d.status[0].message = 'ok'
         self.diag_pub.publish(d)
         time.sleep(0.2)
+
+    def test_a_passing_localization_outage_holds_the_goal_then_it_goes_on(self):
+        waiting = []
+        self.goto.send_goal(GotoGoal(x=2.5, y=0.5, angle=0.0, timeout=30.0), feedback_cb=lambda f: waiting.append(f.waiting))
+        time.sleep(0.8)
+        t0 = time.monotonic()
+        self.robot.localize = False
+        time.sleep(1.2)  # stale after max_pose_age (0.6 s): held about 0.6 s, less than max_hold (1.0 s)
+        self.assertStoppedAfter(t0, within=0.6 + 0.05 + 0.25)
+        held_at = self.robot.pose()
+        self.robot.localize = True
+        self.assertTrue(self.goto.wait_for_result(rospy.Duration(20)))
+        self.assertEqual(self.goto.get_state(), GoalStatus.SUCCEEDED, self.goto.get_goal_status_text())
+        self.assertTrue([w for w in waiting if w.startswith('localization stale')], 'the feedback never said why it held')
+        self.assertEqual(waiting[-1], '', 'the feedback still says it waits after the goal went on')
+        self.assertGreater(math.hypot(self.robot.pose()[0] - held_at[0], self.robot.pose()[1] - held_at[1]), 0.3)
+
+    def test_a_passing_motor_fault_holds_the_goal_then_it_goes_on(self):
+        waiting = []
+        self.goto.send_goal(GotoGoal(x=2.5, y=0.5, angle=0.0, timeout=30.0), feedback_cb=lambda f: waiting.append(f.waiting))
+        time.sleep(0.8)
+        d = DiagnosticArray()
+        d.header.stamp = rospy.Time.now()
+        d.status = [DiagnosticStatus(level=DiagnosticStatus.ERROR, name='/hal/drive: device', message='motor board stale')]
+        t0 = time.monotonic()
+        self.diag_pub.publish(d)
+        time.sleep(0.5)
+        self.assertStoppedAfter(t0, within=0.1)
+        d.status[0].level = DiagnosticStatus.OK
+        d.status[0].message = 'ok'
+        self.diag_pub.publish(d)
+        self.assertTrue(self.goto.wait_for_result(rospy.Duration(20)))
+        self.assertEqual(self.goto.get_state(), GoalStatus.SUCCEEDED, self.goto.get_goal_status_text())
+        self.assertTrue([w for w in waiting if 'motor board stale' in w], 'the feedback never said why it held')
+
+    def test_a_relative_move_held_for_odometry_keeps_its_target(self):
+        self.robot.localize = False
+        self.straight.send_goal(GoStraightGoal(distance=0.6, timeout=30.0))
+        time.sleep(0.5)
+        self.robot.odometry = False
+        time.sleep(0.8)  # stale after max_odom_age (0.5 s): held about 0.3 s
+        self.robot.odometry = True
+        self.assertTrue(self.straight.wait_for_result(rospy.Duration(20)))
+        self.assertEqual(self.straight.get_state(), GoalStatus.SUCCEEDED, self.straight.get_goal_status_text())
+        self.assertAlmostEqual(self.robot.pose()[0], 0.5 + 0.6, delta=0.02)
 
     def test_deactivation_aborts_and_refuses(self):
         deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger)

@@ -5,6 +5,12 @@ the triggers configured under the brain's ~triggers (opponent ahead, stuck, loca
 lost, ...; a strategy may narrow them with `trigger_kinds`), publishes it for
 smach_viewer under /brain/smach/... and execute() runs it on one persistent thread; stop()
 preempts it (goals cancelled) and waits for it.
+
+A timed strategy gives up on a task, never on the match: when its machine ends with one of
+`restart_on` (default 'aborted'), the Supervisor starts it again from its initial state after a
+back-off (`backoff`, [s] first and longest), once next_round(outcome) has let the strategy
+forget the failed task. Only the match end (or a next_round that returns False: nothing is left
+to do) ends it.
 """
 import rospy
 
@@ -16,6 +22,15 @@ from smart_brain.strategy import Strategy
 class MachineStrategy(Strategy):
     #: trigger kinds this strategy accepts from ~triggers (None: every configured one)
     trigger_kinds = None
+    #: machine outcomes that start it again instead of ending the strategy (timed strategies only)
+    restart_on = ('aborted',)
+    #: [s] (first, longest) pause before the machine starts again; doubles while runs stay short
+    backoff = (0.5, 4.0)
+
+    def next_round(self, outcome):
+        """Called before the machine starts again after ending with `outcome`: forget what
+        failed, choose anew. Return False when nothing is left to do (the strategy ends)."""
+        return True
 
     def build(self):
         raise NotImplementedError
@@ -31,7 +46,12 @@ class MachineStrategy(Strategy):
         if self.trigger_kinds is not None:
             config = {k: v for k, v in config.items() if k in self.trigger_kinds}
         self.triggers = trigger_kinds.build(config)
-        self.root = Supervisor(self.machine, self.triggers) if self.triggers else self.machine
+        restart_on = tuple(self.restart_on) if self.timed else ()
+        if self.triggers or restart_on:
+            self.root = Supervisor(self.machine, self.triggers, restart_on=restart_on, backoff=self.backoff,
+                                   before_restart=self._next_round)
+        else:
+            self.root = self.machine
         self.introspection = None
         try:
             from smart_brain.statemachine.introspection import IntrospectionServer
@@ -41,6 +61,14 @@ class MachineStrategy(Strategy):
         self.runner = Runner('strategy-' + self.name)
         self.started = False
         self.stopped = False
+
+    def _next_round(self, outcome):
+        if self.stopped:
+            return False
+        again = self.next_round(outcome) is not False
+        if again:
+            rospy.logwarn('brain: strategy %s: its machine ended %s; it plays on', self.name, outcome)
+        return again
 
     def execute(self):
         if self.stopped:

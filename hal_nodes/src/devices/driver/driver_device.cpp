@@ -9,14 +9,19 @@
 // runs; refresh() at ~rate is the control loop. One goal at a time: a goal on any action
 // preempts the running one.
 //
-// Safety (every check stops the wheels and ends the goal with a result code saying why):
-// cancel / new goal (zero published at once, in the callback); localization older than
-// ~max_pose_age or below ~min_probability or lost (goto, follow_path); odometry older than
-// ~max_odom_age (go_straight, rotate_by); the drive effector's /diagnostics status
-// (~predict_pose [true]: the map pose is carried from the newest /odom's stamp to now by its twist)
-// (~motor_status, a status-name prefix, default "hal/drive:"; "" disables) at ERROR; /effectors/deactivate (this is an Effector);
-// the goal's own timeout. Every controlled command goes through the VelocityLimiter
-// (~limits/*); only the stop itself skips the deceleration ramp.
+// Safety. These end the goal at once, wheels stopped, with a result code saying why: cancel /
+// new goal (zero published at once, in the callback), /effectors/deactivate (this is an
+// Effector), the goal's own timeout.
+// A passing fault holds the goal instead: the wheels stop at once, the feedback's `waiting`
+// says why, and the goal resumes from where the robot is when the inputs are sound again; only
+// a fault lasting longer than ~max_hold [s] (default 5; 0: end at once) ends the goal with its
+// code. The faults: localization older than ~max_pose_age, below ~min_probability or lost
+// (goto, follow_path); odometry older than ~max_odom_age (go_straight, rotate_by); the drive
+// effector's /diagnostics status at ERROR (~motor_status, a status-name prefix, default
+// "hal/drive:"; "" disables). A match is lost by a robot that gives up on a 1 s board outage.
+// (~predict_pose [true]: the map pose is carried from the newest /odom's stamp to now by its twist.)
+// Every controlled command goes through the VelocityLimiter (~limits/*); only the stop itself
+// skips the deceleration ramp.
 //
 // Avoidance (~avoidance/*): obstacle points from the rangers (~avoidance/rangers: names on
 // ~avoidance/ranger_prefix, placed with tf from base_link; an echo matching the table border
@@ -165,6 +170,8 @@ class Driver : public Effector {
     requirePositive(p, "max_pose_age", max_pose_age_);
     max_odom_age_ = optionalDouble(p, "max_odom_age", 0.2);
     requirePositive(p, "max_odom_age", max_odom_age_);
+    max_hold_ = optionalDouble(p, "max_hold", 5.0);
+    hcl_drivers::requireInRange(p, "max_hold", max_hold_, 0.0, 60.0);
     p.param("predict_pose", predict_pose_, true);
     min_probability_ = optionalDouble(p, "min_probability", 0.5);
     hcl_drivers::requireInRange(p, "min_probability", min_probability_, 0.0, 1.0);
@@ -240,10 +247,10 @@ class Driver : public Effector {
       finish(TIMEOUT, "goal timeout expired", false);
       return;
     }
-    if (motor_fault_) {
-      finish(MOTOR_FAULT, "drive effector reports an error: " + motor_fault_message_, false);
-      return;
-    }
+    uint8_t code;
+    std::string why;
+    if (!inputsSound(&code, &why)) return hold(code, why, now);
+    if (!held_since_.isZero() || !move_started_) resume();
     switch (mode_) {
       case Mode::GOTO: stepGoto(dt); break;
       case Mode::PATH: stepPath(dt); break;
@@ -272,6 +279,8 @@ class Driver : public Effector {
     stat.add("ranger echoes explained by the border", border_echoes_);
     stat.add("avoidance", avoidanceNow());
     stat.add("motor fault", motor_fault_ ? motor_fault_message_ : std::string("no"));
+    stat.add("holding", held_since_.isZero() ? std::string("no") : waiting_);
+    stat.add("goals held", holds_);
     stat.addf("last command", "v %.3f m/s, w %.3f rad/s", limiter_.last().v, limiter_.last().w);
   }
 
@@ -458,8 +467,101 @@ class Driver : public Effector {
     detours_ = 0;
     blocked_since_ = ros::Time();
     stopped_now_ = false;
+    held_since_ = ros::Time();
+    waiting_.clear();
+    move_started_ = false;
     limiter_.reset();
     stopNow();
+  }
+
+  // ---------------------------------------------------------------- passing faults
+  // Whether the running goal's inputs allow driving now; if not, the code and reason.
+  bool inputsSound(uint8_t* code, std::string* why) {
+    if (motor_fault_) {
+      *code = MOTOR_FAULT;
+      *why = "drive effector reports an error: " + motor_fault_message_;
+      return false;
+    }
+    Pose2D pose;
+    if (mode_ == Mode::STRAIGHT || mode_ == Mode::ROTATE) {
+      if (odomPose(&pose)) return true;
+      *code = ODOMETRY_STALE;
+      char buf[96];
+      snprintf(buf, sizeof buf, "odometry stale: age %.2f s (max %.2f s)", odom_->age(), max_odom_age_);
+      *why = buf;
+      return false;
+    }
+    return mapPose(&pose, code, why);
+  }
+
+  // Zero speed while the fault lasts, the feedback saying why; past ~max_hold the goal ends.
+  void hold(uint8_t code, const std::string& why, const ros::Time& now) {
+    if (held_since_.isZero()) {
+      held_since_ = now;
+      ++holds_;
+      if (max_hold_ > 0.0) ROS_WARN("driver: goal held at zero speed: %s", why.c_str());
+    }
+    if ((now - held_since_).toSec() >= max_hold_) {
+      if (max_hold_ <= 0.0) return finish(code, why, false);
+      char buf[64];
+      snprintf(buf, sizeof buf, " (held for longer than max_hold, %.1f s)", max_hold_);
+      return finish(code, why + buf, false);
+    }
+    waiting_ = why;
+    stopNow();
+    publishFeedback();
+  }
+
+  // The inputs are sound (again, or for the first time since the goal came): a goto or a path
+  // is planned from where the robot is now (it may have been pushed while it held); a relative
+  // move keeps its target in the odometry frame and is only started if it was not yet.
+  void resume() {
+    if (!held_since_.isZero())
+      ROS_INFO("driver: inputs sound again after %.2f s: the goal goes on", (ros::Time::now() - held_since_).toSec());
+    held_since_ = ros::Time();
+    waiting_.clear();
+    limiter_.reset();
+    Pose2D pose;
+    uint8_t code;
+    std::string why;
+    switch (mode_) {
+      case Mode::GOTO:
+        if (!mapPose(&pose, &code, &why)) return;
+        startLeg(pose);
+        break;
+      case Mode::PATH:
+        if (!mapPose(&pose, &code, &why)) return;
+        if (move_started_) {
+          popPassed();
+          queue_.erase(queue_.begin(), queue_.begin() + passed_in_path_);
+        }
+        rebuildPath(pose);
+        break;
+      case Mode::STRAIGHT:
+        if (move_started_ || !odomPose(&pose)) break;
+        straight_.start(pose, straight_goal_.backwards ? -straight_goal_.distance : straight_goal_.distance,
+                        straight_goal_.tolerance > 0 ? straight_goal_.tolerance : default_straight_tolerance_,
+                        straight_goal_.max_speed);
+        break;
+      case Mode::ROTATE:
+        if (move_started_ || !odomPose(&pose)) break;
+        rotation_.start(pose, rotate_goal_.angle, rotate_goal_.tolerance > 0 ? rotate_goal_.tolerance : default_angle_tolerance_,
+                        rotate_goal_.max_speed);
+        break;
+      case Mode::NONE:
+        return;
+    }
+    move_started_ = true;
+  }
+
+  void publishFeedback() {
+    switch (mode_) {
+      case Mode::GOTO: publishGotoFeedback(); break;
+      case Mode::PATH: publishPathFeedback(); break;
+      case Mode::STRAIGHT:
+      case Mode::ROTATE: publishRelativeFeedback(); break;
+      case Mode::NONE: break;
+    }
   }
 
   void setTimeout(double t) { timeout_ = t > 0.0 ? ros::Time::now() + ros::Duration(t) : ros::Time(); }
@@ -476,10 +578,6 @@ class Driver : public Effector {
     if (!finite({g.x, g.y, g.angle, g.position_tolerance, g.angle_tolerance, g.max_speed, g.timeout}) ||
         g.position_tolerance < 0 || g.angle_tolerance < 0 || g.max_speed < 0 || g.timeout < 0)
       return finish(INVALID_GOAL, "goal fields must be finite and tolerances, max_speed, timeout >= 0", false);
-    Pose2D pose;
-    uint8_t code;
-    std::string why;
-    if (!mapPose(&pose, &code, &why)) return finish(code, why, false);
     goal_ = AutopilotGoal();
     goal_.target = {g.x, g.y, g.angle};
     goal_.position_tolerance = g.position_tolerance > 0 ? g.position_tolerance : default_position_tolerance_;
@@ -487,8 +585,7 @@ class Driver : public Effector {
     goal_.max_speed = g.max_speed;
     goal_.allow_reverse = g.allow_reverse;
     waypoints_.clear();
-    autopilot_.start(goal_, pose);
-    setTimeout(g.timeout);
+    setTimeout(g.timeout);  // refresh() starts the autopilot from the pose it has (resume())
   }
 
   void startStraight(const GoStraightGoal& g) {
@@ -497,11 +594,8 @@ class Driver : public Effector {
     if (!finite({g.distance, g.tolerance, g.max_speed, g.timeout}) || g.distance < 0 || g.tolerance < 0 || g.max_speed < 0 ||
         g.timeout < 0)
       return finish(INVALID_GOAL, "distance, tolerance, max_speed, timeout must be finite and >= 0", false);
-    Pose2D pose;
-    if (!odomPose(&pose)) return finish(ODOMETRY_STALE, "odometry stale", false);
-    straight_.start(pose, g.backwards ? -g.distance : g.distance, g.tolerance > 0 ? g.tolerance : default_straight_tolerance_,
-                    g.max_speed);
-    setTimeout(g.timeout);
+    straight_goal_ = g;
+    setTimeout(g.timeout);  // refresh() starts the move from the odometry it has (resume())
   }
 
   void startRotate(const RotateByGoal& g) {
@@ -509,10 +603,8 @@ class Driver : public Effector {
     if (refuseIfInactive()) return;
     if (!finite({g.angle, g.tolerance, g.max_speed, g.timeout}) || g.tolerance < 0 || g.max_speed < 0 || g.timeout < 0)
       return finish(INVALID_GOAL, "angle, tolerance, max_speed, timeout must be finite, the last three >= 0", false);
-    Pose2D pose;
-    if (!odomPose(&pose)) return finish(ODOMETRY_STALE, "odometry stale", false);
-    rotation_.start(pose, g.angle, g.tolerance > 0 ? g.tolerance : default_angle_tolerance_, g.max_speed);
-    setTimeout(g.timeout);
+    rotate_goal_ = g;
+    setTimeout(g.timeout);  // refresh() starts the rotation from the odometry it has (resume())
   }
 
   void startPath(const FollowPathGoal& g) {
@@ -527,17 +619,13 @@ class Driver : public Effector {
         return finish(INVALID_GOAL, "checkpoint coordinates must be finite", false);
       queue_.push_back(driver::Checkpoint{c.x, c.y, static_cast<bool>(c.has_heading), c.heading});
     }
-    Pose2D pose;
-    uint8_t code;
-    std::string why;
-    if (!mapPose(&pose, &code, &why)) return finish(code, why, false);
     path_tolerance_ = g.tolerance > 0 ? g.tolerance : default_position_tolerance_;
     path_max_speed_ = g.max_speed;
     checkpoints_passed_ = 0;
+    passed_in_path_ = 0;
     max_cross_track_ = 0.0;
     pending_edits_.clear();
-    rebuildPath(pose);
-    setTimeout(g.timeout);
+    setTimeout(g.timeout);  // refresh() builds the curve from the pose it has (resume())
   }
 
   // ---------------------------------------------------------------- control
@@ -675,8 +763,9 @@ class Driver : public Effector {
     fusion_.mapPose(&pose);
     f.distance_remaining = std::hypot(goal_.target.x - pose.x, goal_.target.y - pose.y);
     f.progress = waypoints_.empty() && !detour_active_ ? autopilot_.progressPercent() : 0.0;
-    f.phase = Autopilot::phaseName(autopilot_.phase());
+    f.phase = waiting_.empty() ? Autopilot::phaseName(autopilot_.phase()) : "holding";
     f.avoidance = avoidanceNow();
+    f.waiting = waiting_;
     goto_->publishFeedback(f);
   }
 
@@ -687,17 +776,30 @@ class Driver : public Effector {
       const Twist2D d = straight_.step(pose, limiter_.last());
       if (straight_.done()) return finish(REACHED, "reached", true);
       drive(d, dt);
-      GoStraightFeedback f;
-      f.distance_remaining = straight_.remaining();
-      f.progress = straight_.progressPercent();
-      straight_as_->publishFeedback(f);
     } else {
       const Twist2D d = rotation_.step(pose, limiter_.last());
       if (rotation_.done()) return finish(REACHED, "reached", true);
       drive(d, dt);
+    }
+    publishRelativeFeedback();
+  }
+
+  void publishRelativeFeedback() {
+    if (mode_ == Mode::STRAIGHT) {
+      GoStraightFeedback f;
+      if (move_started_) {
+        f.distance_remaining = straight_.remaining();
+        f.progress = straight_.progressPercent();
+      }
+      f.waiting = waiting_;
+      straight_as_->publishFeedback(f);
+    } else if (mode_ == Mode::ROTATE) {
       RotateByFeedback f;
-      f.angle_remaining = rotation_.remaining();
-      f.progress = rotation_.progressPercent();
+      if (move_started_) {
+        f.angle_remaining = rotation_.remaining();
+        f.progress = rotation_.progressPercent();
+      }
+      f.waiting = waiting_;
       rotate_as_->publishFeedback(f);
     }
   }
@@ -796,13 +898,20 @@ class Driver : public Effector {
       }
       drive(desired, dt);
     }
+    publishPathFeedback();
+  }
+
+  void publishPathFeedback() {
     FollowPathFeedback f;
+    f.waiting = waiting_;
+    if (!move_started_) return path_as_->publishFeedback(f);  // no curve yet: only why it waits
     f.distance_remaining = follower_.remaining();
     f.progress = follower_.progressPercent();
     f.checkpoints_passed = checkpoints_passed_;
     f.checkpoints_remaining = static_cast<uint32_t>(std::max(0, static_cast<int>(queue_.size()) - passed_in_path_));
     f.cross_track_error = follower_.crossTrackError();
     f.avoidance = avoidanceNow();
+    f.waiting = waiting_;
     path_as_->publishFeedback(f);
   }
 
@@ -811,6 +920,8 @@ class Driver : public Effector {
     const Mode mode = mode_;
     mode_ = Mode::NONE;
     timeout_ = ros::Time();
+    held_since_ = ros::Time();
+    waiting_.clear();
     detour_active_ = false;
     stopped_now_ = false;
     stopNow();
@@ -897,6 +1008,11 @@ class Driver : public Effector {
 
   Mode mode_ = Mode::NONE;
   ros::Time last_refresh_, last_map_stamp_, timeout_, blocked_since_;
+  ros::Time held_since_;        // the running goal holds for a passing fault since then (zero: it drives)
+  std::string waiting_;         // why it holds
+  bool move_started_ = false;   // the goal's autopilot / curve / relative move was started from a pose
+  GoStraightGoal straight_goal_;
+  RotateByGoal rotate_goal_;
   double period_ = 0.02;
   AutopilotGoal goal_;
   std::vector<Point2D> waypoints_;  // detour waypoints before goal_
@@ -911,11 +1027,12 @@ class Driver : public Effector {
 
   double default_position_tolerance_ = 0.01, default_angle_tolerance_ = 0.035, default_straight_tolerance_ = 0.005;
   bool predict_pose_ = true;
+  double max_hold_ = 5.0;
   double max_pose_age_ = 0.5, max_odom_age_ = 0.2, min_probability_ = 0.5, detour_tolerance_ = 0.05, obstacle_max_age_ = 0.3;
   std::string motor_status_, base_frame_, map_frame_;
   bool motor_fault_ = false;
   std::string motor_fault_message_;
-  unsigned long goals_ = 0, aborted_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0;
+  unsigned long goals_ = 0, aborted_ = 0, holds_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0;
 };
 
 }  // namespace hal_nodes

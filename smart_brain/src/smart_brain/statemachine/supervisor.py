@@ -9,7 +9,17 @@ The handler state's outcome decides:
   '<label>'   start the body at that state of the body machine (go to)
   'aborted'   end the supervisor with 'aborted'
   'preempted' the handler itself was preempted: end with 'preempted'
-The supervisor's outcomes are the body's. One event queue (body ended, handler ended,
+The supervisor's outcomes are the body's, except those in `restart_on`: a body ending with one
+of them starts again from its initial state after a back-off (`backoff` = (first, longest) [s]
+on the brain's clock: doubling while the body keeps ending sooner than `longest` after its
+start, back to `first` after a longer run). `before_restart(outcome)`, when given, runs first
+(the strategy forgets a failed task, picks the next one) and may return False: nothing is left
+to do, the supervisor ends with that outcome. A match strategy gives up on a task, never on the
+match:
+
+    Supervisor(body, triggers, restart_on=('aborted',), backoff=(0.5, 4.0))
+
+One event queue (body ended, handler ended,
 preempt, trigger wake-up) is read by the supervisor's thread only, so every preempt is
 consumed exactly once; body and handlers run one at a time on one persistent Runner.
 """
@@ -29,7 +39,8 @@ _DECISIONS = ('resume', 'restart', 'aborted', 'preempted')
 
 
 class Supervisor(Container):
-    def __init__(self, body, triggers=(), poll_period=0.02, input_keys=(), output_keys=()):
+    def __init__(self, body, triggers=(), poll_period=0.02, input_keys=(), output_keys=(),
+                 restart_on=(), backoff=(0.5, 4.0), before_restart=None):
         outcomes = list(body.get_registered_outcomes())
         for extra in ('aborted', 'preempted'):
             if extra not in outcomes:
@@ -44,6 +55,12 @@ class Supervisor(Container):
         self._runner = Runner('supervisor')
         self._phase = None        # 'BODY' or the trigger name whose handler runs
         self.log = []             # (monotonic time, what) for tests and reports
+        self.restart_on = tuple(restart_on)
+        self.backoff = (float(backoff[0]), float(backoff[1]))
+        if not 0.0 <= self.backoff[0] <= self.backoff[1]:
+            raise ValueError('backoff %r: must be (first, longest) with 0 <= first <= longest' % (backoff,))
+        self.before_restart = before_restart
+        self.restarts = 0
         for trig in self.triggers:
             self._add_child(trig.name, trig.handler)
             trig.attach(self.wake_up)
@@ -103,6 +120,10 @@ class Supervisor(Container):
             trig.reset()
         self._notify(self._start_cbs, ['BODY'])
         self._start('BODY', self.body)
+        self.restarts = 0
+        body_started = clock.now()
+        delay = 0.0           # the last back-off
+        restart_at = None     # backing off: the body starts again at this time
         fired = None          # the trigger whose handler runs (or will, once the body stopped)
         body_outcome = None   # how the interrupted body ended
         preempted = False
@@ -116,9 +137,18 @@ class Supervisor(Container):
                 if self.service_preempt() and not preempted:
                     preempted = True
                     self._note('preempted from above')
+                    if restart_at is not None:   # backing off: nothing runs
+                        return self._finish('preempted')
                     self._runner.preempt()
-            elif kind == 'poll':
-                if self._phase == 'BODY' and fired is None and not preempted:
+                continue
+            if kind == 'poll':
+                if restart_at is not None and clock.now() >= restart_at:
+                    restart_at = None
+                    self.restarts += 1
+                    self.body.restart_next()
+                    body_started = clock.now()
+                    self._start('BODY', self.body)
+                elif self._phase == 'BODY' and fired is None and not preempted:
                     now = clock.now()
                     for trig in self.triggers:
                         if trig.update(now):
@@ -128,42 +158,59 @@ class Supervisor(Container):
                             self._note('trigger %s fired: preempting the body' % trig.name)
                             self._runner.preempt()
                             break
-            elif kind == 'done':
-                _, label, outcome, error = event
-                if error is not None:
-                    self._phase = None
-                    raise error
-                if preempted:
-                    self._phase = None
-                    return self._finish('preempted')
-                if label == 'BODY':
-                    if fired is None:
-                        self._phase = None
-                        return self._finish(outcome)
+                continue
+            # kind == 'done': the body or a handler ended
+            _, label, outcome, error = event
+            if error is not None:
+                self._phase = None
+                raise error
+            if preempted:
+                self._phase = None
+                return self._finish('preempted')
+            ended = None   # the body's run is over with this outcome (unless it starts again)
+            if label == 'BODY':
+                if fired is None:
+                    ended = outcome
+                else:
                     # The body stopped for the trigger (or ended by itself at the same time:
                     # the handler still runs, then the decision applies).
                     body_outcome = outcome
                     self._note('body stopped (%s) at %s; running handler %s' % (outcome, self.body.history(), fired.name))
                     self._start(fired.name, fired.handler)
+                    continue
+            else:
+                fired.handled()
+                decision = outcome
+                fired = None
+                self._note('handler %s decided %s' % (label, decision))
+                if decision in ('aborted', 'preempted'):
+                    ended = decision
+                elif decision == 'resume' and body_outcome != 'preempted':
+                    ended = body_outcome   # the body had finished on its own before the trigger stopped it
                 else:
-                    fired.handled()
-                    decision = outcome
-                    fired = None
-                    self._note('handler %s decided %s' % (label, decision))
-                    if decision in ('aborted', 'preempted'):
-                        self._phase = None
-                        return self._finish(decision)
                     if decision == 'resume':
-                        if body_outcome != 'preempted':
-                            # The body had finished on its own before the trigger stopped it.
-                            self._phase = None
-                            return self._finish(body_outcome)
                         self.body.resume_next()
                     elif decision == 'restart':
                         self.body.restart_next()
                     else:
                         self.body.restart_next(decision)
                     self._start('BODY', self.body)
+                    continue
+            self._phase = None
+            if ended not in self.restart_on or not self._wants_restart(ended):
+                return self._finish(ended)
+            ran = clock.now() - body_started
+            delay = self.backoff[0] if ran >= self.backoff[1] or delay == 0.0 else min(2.0 * delay, self.backoff[1])
+            restart_at = clock.now() + delay
+            self._note('body ended %s: starting it again in %.1f s' % (ended, delay))
+
+    def _wants_restart(self, outcome):
+        if self.before_restart is None:
+            return True
+        if self.before_restart(outcome) is False:
+            self._note('body ended %s and nothing is left to do' % outcome)
+            return False
+        return True
 
     def _finish(self, outcome):
         self._notify(self._transition_cbs, [])

@@ -5,7 +5,8 @@ Loop: take the balls of our kinds the vision device sees now (nearest-first, up 
 `max_balls` per trip), switch the harvester on, follow one Hermite path through them
 (/hal/driver/follow_path), drive to the basket, unload, again. When no ball is seen,
 drive the configured search path and look again; after `max_searches` empty looks the
-strategy ends. Config: ~match2008/{ball_kinds, max_balls, basket, search, max_searches,
+machine ends, and the strategy starts it again after a back-off (balls roll, the opponent
+moves them): it plays until the match ends (MachineStrategy.restart_on). Config: ~match2008/{ball_kinds, max_balls, basket, search, max_searches,
 harvester_topic, harvester_speed, unload_speed, unload_time, vision_topic}. The harvester
 is an effector input (std_msgs/Float64, its speed); with harvester_topic empty the
 harvester is passive (a fixed brush) and unloading is just waiting at the basket.
@@ -26,6 +27,11 @@ class Match2008Strategy(MachineStrategy):
     description = '2008: harvest the balls the camera sees along a Hermite path, deliver them to the basket'
     required_devices = ('driver',)
     required_topics = ('/mcl/pose',)
+    restart_on = ('aborted', 'succeeded')
+
+    def next_round(self, outcome):
+        self.searches = 0
+        return True
 
     def build(self):
         import rospy
