@@ -33,6 +33,9 @@ matplotlib.use('Agg')  # headless: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 import rosbag  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from idle_time import IDLE_LIMIT, idle_stretches, too_long  # noqa: E402
+
 DEFAULT_TABLE = (3.0, 2.1)
 ERROR_LEVELS = (8, 16)  # rosgraph_msgs/Log ERROR, FATAL
 WARN_LEVEL = 4
@@ -315,6 +318,41 @@ class Match(object):
                 break
         return sorted(goals, key=lambda g: g['t_sent'])
 
+    def match_end(self):
+        """Bag time of the match end: the brain's first `ended` or the referee's first `over`, the
+        earlier. Bag (receive) times: /effectors/deactivated has no header to compare."""
+        ends = []
+        for _, msg, t in self.read('/brain/match_status'):
+            if msg.state == 'ended':
+                ends.append(t.to_sec())
+                break
+        for _, msg, t in self.read('/sim/match'):
+            if msg.over:
+                ends.append(t.to_sec())
+                break
+        return min(ends) if ends else None
+
+    def hal_goal_spans(self):
+        """[(t_sent, t_end or None)] of every HAL action goal (driver, hand, ...), bag times."""
+        spans = []
+        for goal_topic in self.find('/hal/', '/goal'):
+            base = goal_topic[:-len('/goal')]
+            if not goal_topic.endswith('/goal') or not self.has(base + '/result'):
+                continue
+            sent = {msg.goal_id.id: t.to_sec() for _, msg, t in self.read(goal_topic)}
+            ended = {msg.status.goal_id.id: t.to_sec() for _, msg, t in self.read(base + '/result')}
+            spans += [(t, ended.get(gid)) for gid, t in sent.items()]
+        return sorted(spans)
+
+    def idle(self, start, end):
+        """The idle stretches [(t0, t1)] between start and end (idle_time.py): no HAL action goal
+        active (driver, hand) and a zero speed on /hal/drive/cmd_vel. Bag times, like match_end()."""
+        if start is None or end is None:
+            return []
+        goals = self.hal_goal_spans()
+        commands = [(t.to_sec(), msg.linear.x, msg.angular.z) for _, msg, t in self.read('/hal/drive/cmd_vel')]
+        return idle_stretches(goals, commands, start, end)
+
     def log_lines(self):
         """[(t, level, node, first line)] of /rosout."""
         out = []
@@ -536,6 +574,14 @@ def report(bag_path, out_png):
         summary.append('driver goals: %s' % '; '.join(per_action))
     else:
         summary.append('driver goals: absent')
+    t_end = m.match_end()
+    idle = m.idle(t_signal, t_end)
+    if t_signal is not None and t_end is not None:
+        longest = max([b - a for a, b in idle] or [0.0])
+        summary.append('idle while the match runs: %.1f s in %d stretch(es), the longest %.1f s%s'
+                       % (sum(b - a for a, b in idle), len(idle), longest,
+                          ''.join('; %.1f s idle from %.1f s with more than %.0f s left' % (s, a - t0, IDLE_LIMIT)
+                                  for a, s in too_long(idle, t_end))))
     aborted = [g for g in goals if g['status'] in ('ABORTED', 'REJECTED', 'LOST')]
     summary.append('aborted goals: %d' % len(aborted))
     for g in aborted:

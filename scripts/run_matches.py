@@ -20,12 +20,15 @@ launch log:
                          distance (/sim/ground_truth, /sim/opponent; radii from the config)
   triggers, stuck        trigger firings (Match.triggers()), of them the `stuck` trigger's
   loc RMSE / max         /mcl/pose against /sim/ground_truth from the start signal to the end
+  idle / idle max        [s] idle while the match runs (scripts/idle_time.py: no driver goal
+                         active and zero commanded speed), in all and the longest stretch
   effectors off          [s] from the match end (/brain/match_status ended or /sim/match over,
                          the earlier) to the latched /effectors/deactivated going true
   wall                   [s] from launch to report
 Invariants (a violation makes the exit code 1, each is printed with its seed): no node died
 (launch log), the match started (and ended), the effectors were off 1 s after the match end, our
-robot's true pose stayed on the table ([0, length] x [0, width] of table:). The last line is
+robot's true pose stayed on the table ([0, length] x [0, width] of table:), no idle stretch over
+10 s while more than 10 s of the match remained. The last line is
     matches N score_mean S score_min A violations V wall_s W factor F
 """
 import argparse
@@ -44,6 +47,7 @@ SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(SCRIPTS)
 sys.path.insert(0, SCRIPTS)
 import run_match  # noqa: E402  (free_port: the project's own port range)
+from idle_time import IDLE_LIMIT, too_long  # noqa: E402
 from match_report import Match, errors_against_truth  # noqa: E402
 
 OPPONENTS = ('random_walk', 'route', 'blocker')
@@ -54,7 +58,7 @@ ROUTE_CLEARANCE = 0.30  # [m] between the game elements' centres and the route
 BLOCKER_PAUSE = 1.0e6  # [s] at the goal: longer than any match, so the blocker never leaves
 
 MatchRow = collections.namedtuple('MatchRow', 'seed opponent folder ours theirs contacts triggers stuck '
-                                              'loc_rmse loc_max effectors_off wall errors violations')
+                                              'loc_rmse loc_max idle idle_max effectors_off wall errors violations')
 
 
 def log(msg):
@@ -203,21 +207,6 @@ def node_deaths(launch_log):
     return died
 
 
-def match_end(m):
-    """Bag time of the match end: the brain's first `ended` or the referee's first `over`, the
-    earlier. Bag (receive) times throughout: /effectors/deactivated has no header to compare."""
-    ends = []
-    for _, msg, t in m.read('/brain/match_status'):
-        if msg.state == 'ended':
-            ends.append(t.to_sec())
-            break
-    for _, msg, t in m.read('/sim/match'):
-        if msg.over:
-            ends.append(t.to_sec())
-            break
-    return min(ends) if ends else None
-
-
 def effectors_off_delay(m, end):
     """[s] from the match end to the latched /effectors/deactivated last going true, judged
     EFFECTORS_GRACE after the end; None when they were not off by then."""
@@ -262,7 +251,7 @@ def off_table(truth, length, width):
 
 def figures(m, config, start, end):
     """The row's figures of one recorded match (None where the bag cannot tell)."""
-    out = dict(ours=None, theirs=None, loc_rmse=None, loc_max=None, effectors_off=None, errors=[])
+    out = dict(ours=None, theirs=None, loc_rmse=None, loc_max=None, idle=None, idle_max=None, effectors_off=None, errors=[])
     _, _, score = m.score_series()
     if score:
         out.update(ours=score[-1][1], theirs=score[-1][2])
@@ -277,6 +266,8 @@ def figures(m, config, start, end):
             out.update(errors=errors, loc_rmse=math.sqrt(sum(e * e for e in errors) / len(errors)),
                        loc_max=max(errors))
         out['effectors_off'] = effectors_off_delay(m, end)
+        idle = m.idle(start, end)
+        out.update(idle=sum(b - a for a, b in idle), idle_max=max([b - a for a, b in idle] or [0.0]))
     return out
 
 
@@ -289,6 +280,10 @@ def broken_invariants(m, config, start, end, effectors_off):
         broken.append('the match never ended')
     elif effectors_off is None:
         broken.append('the effectors were still on %.0f s after the match end' % EFFECTORS_GRACE)
+    if start is not None and end is not None:
+        for t0, seconds in too_long(m.idle(start, end), end):
+            broken.append('idle for %.1f s from %.1f s into the match with more than %.0f s left'
+                          % (seconds, t0 - start, IDLE_LIMIT))
     left = off_table(m.poses('/sim/ground_truth'), config['table']['length'], config['table']['width'])
     if left:
         broken.append('our robot left the table at (%.3f, %.3f), %.1f s into the bag'
@@ -300,12 +295,13 @@ def analyse(seed, kind, folder, robot, config, rc, wall):
     """The match's row from its bag and launch log, with the invariants it broke."""
     bag = os.path.join(folder, robot + '_match.bag')
     row = dict(seed=seed, opponent=kind, folder=folder, wall=wall, ours=None, theirs=None, contacts=None,
-               triggers=None, stuck=None, loc_rmse=None, loc_max=None, effectors_off=None, errors=[])
+               triggers=None, stuck=None, loc_rmse=None, loc_max=None, idle=None, idle_max=None, effectors_off=None,
+               errors=[])
     violations = ['node %s died: %s' % died for died in node_deaths(os.path.join(folder, robot + '_launch.log')).items()]
     if os.path.exists(bag):
         m = Match(bag)
         start, _ = m.start_signal()
-        end = match_end(m)
+        end = m.match_end()
         row.update(figures(m, config, start, end))
         violations += broken_invariants(m, config, start, end, row['effectors_off'])
         m.bag.close()
@@ -320,7 +316,8 @@ def analyse(seed, kind, folder, robot, config, rc, wall):
 
 COLUMNS = (('seed', '%4s', '%4d'), ('opponent', '%-11s', '%-11s'), ('ours', '%4s', '%4d'), ('opp', '%4s', '%4d'),
            ('contacts', '%8s', '%8d'), ('triggers', '%8s', '%8d'), ('stuck', '%5s', '%5d'),
-           ('loc_rmse_m', '%10s', '%10.4f'), ('loc_max_m', '%9s', '%9.4f'), ('eff_off_s', '%9s', '%9.3f'),
+           ('loc_rmse_m', '%10s', '%10.4f'), ('loc_max_m', '%9s', '%9.4f'), ('idle_s', '%6s', '%6.1f'),
+           ('idle_max_s', '%10s', '%10.1f'), ('eff_off_s', '%9s', '%9.3f'),
            ('wall_s', '%6s', '%6.0f'))
 
 
@@ -328,7 +325,7 @@ def table_lines(rows):
     lines = [' '.join(head % name for name, head, _ in COLUMNS)]
     for r in rows:
         values = (r.seed, r.opponent, r.ours, r.theirs, r.contacts, r.triggers, r.stuck, r.loc_rmse, r.loc_max,
-                  r.effectors_off, r.wall)
+                  r.idle, r.idle_max, r.effectors_off, r.wall)
         lines.append(' '.join((cell % v) if v is not None else head % '-'
                               for (_, head, cell), v in zip(COLUMNS, values)))
     return lines
