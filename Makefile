@@ -43,11 +43,11 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   libmrpt-dev libmrpt-ros1bridge-dev libeigen3-dev \
   libgtest-dev libgmock-dev googletest python3-nose python3-numpy \
   can-utils iproute2 socat
-# product (issue 10): rviz and its headless test (Xvfb + screenshot), the match report's plots
+# product: rviz and its headless test (Xvfb + screenshot), the match report's plots
 DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil openssh-server
-# libFuzzer (clang) for the beacon parser fuzz test (issue 5)
+# libFuzzer (clang) for the beacon parser fuzz test
 DEPS += clang libclang-rt-14-dev
-# The real SocketCAN test (issue 4) needs a VM on a kernel without AF_CAN: `make test` installs
+# The real SocketCAN test needs a VM on a kernel without AF_CAN: `make test` installs
 # its kernel, qemu and virtme-ng in the background while it builds (scripts/can_vm_prepare.sh,
 # nothing where vcan0 works or with CAN_VM_TEST=0); `make deps` does not.
 

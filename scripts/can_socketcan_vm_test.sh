@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The real SocketCAN test (issue 4). This machine's kernel has no AF_CAN, so it boots Debian's
+# The real SocketCAN test. This machine's kernel has no AF_CAN, so it boots Debian's
 # kernel (which has vcan) in a virtme-ng VM over the host's own file system, creates vcan0 and
 # runs test/scripts/can_socketcan_vm_inner.sh there: our drivers and emulator on
 # socketcan://vcan0, candump -L recording, cansend answering RTRs. Then it checks here, byte-exact,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CAN benchmark (issue 4): the five eurobot2009 CAN boards with their emulators on the
+# CAN benchmark: the five eurobot2009 CAN boards with their emulators on the
 # CAN-over-UDP bus (port 27020), then the motor board alone at 100 Hz and 1 kHz. Prints the
 # achieved poll rates vs configured, p50/p99 latency from RTR to the new value on the state
 # topic, p99 poll jitter, and the bus load as % of 1 Mbit/s. vcan: only where the kernel has

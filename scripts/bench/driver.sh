@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Driver benchmark (issue 8): 20 fixed goto goals chained across the table on the 2009 robot,
+# Driver benchmark: 20 fixed goto goals chained across the table on the 2009 robot,
 # mean time to goal, final position and heading error, overshoot, and the cancel -> wheels
 # stopped time (p50/p99).
 # 1. In the simulator (scripts/bench/driver_sim.launch: simulator, CAN emulators, HCL, HAL with

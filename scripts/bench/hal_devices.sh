@@ -1,5 +1,5 @@
 #!/bin/bash
-# HAL devices (issue 6): cost of the devices' per-sample maths. Run from the repo root with
+# HAL devices: cost of the devices' per-sample maths. Run from the repo root with
 # the workspace sourced (make bench does both). Prints figures, exits 0.
 set -e
 bench=$(catkin_find --first-only hal_nodes device_models_bench 2>/dev/null || true)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Localization (issue 7): our MCL (mcl_bench, the node's filter library) side by side with
+# Localization: our MCL (mcl_bench, the node's filter library) side by side with
 # MRPT's stock CMonteCarloLocalization2D + CBeaconMap (mcl_bench_stock) on the committed
 # synthetic beacon runs of ../shared/bench, both modes, 2,000 particles, and the ratios
 # ours/stock. The stock filter gets the run's true range noise and an odometry model matched

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Product benchmarks (issue 10): what recording, replay and the match report cost.
+# Product benchmarks: what recording, replay and the match report cost.
 # Prints: bag size per match minute of the skeleton robot; how much faster than real time a
 # bag replays through HAL with HAL still seeing every board state; match report time for a
 # 100 s bag. Runs from the repo root with the workspace sourced; own master on port 11731.

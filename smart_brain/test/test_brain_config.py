@@ -50,7 +50,7 @@ class BrainConfigTest(unittest.TestCase):
         try:
             from hal_nodes.msg import FollowPathAction, GotoAction  # noqa: F401
         except ImportError:
-            self.skipTest('hal_nodes driver actions (issue 8) not generated in this build')
+            self.skipTest('hal_nodes driver actions not generated in this build')
         from smart_brain.steps import build_sequence
         from smart_brain.statemachine import Retry
         for robot in ROBOTS:

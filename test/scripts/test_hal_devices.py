@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The issue 6 HAL devices in a real hal_node, fed with HCL messages by this test."""
+"""The HAL devices in a real hal_node, fed with HCL messages by this test."""
 import math
 import threading
 import time

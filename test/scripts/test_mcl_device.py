@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Localization device (issue 7) in a real hal_node, fed with /odom and beacon ranges of a
+"""The Localization device in a real hal_node, fed with /odom and beacon ranges of a
 scripted robot by this test (the HAL odometry and beacons devices' contracts)."""
 import math
 import random

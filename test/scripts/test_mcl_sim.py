@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Localization (issue 7) on the whole simulated 2009 robot (launch/mcl_sim_eurobot2009.test).
+"""Localization on the whole simulated 2009 robot (launch/mcl_sim_eurobot2009.test).
 
 The test drives /hal/drive/cmd_vel itself (the product's drive effector, no driver), steering
 each leg on the localization's own /mcl/pose as a robot does (on /odom while lost on purpose). Only this test reads /sim/*: every /mcl/pose is compared with /sim/ground_truth
