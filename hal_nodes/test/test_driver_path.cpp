@@ -74,6 +74,16 @@ TEST(PathFollower, SixCheckpointsWithin30mmOfTheCurve) {
   }
 }
 
+TEST(PathFollower, ALoopBackToTheStartIsDrivenWhole) {
+  // The robot stands on the last checkpoint: the curve leaves and comes back; it is not done at once.
+  const std::vector<Checkpoint> cps = {{0.8, 1.2}, {1.5, 1.25}, {1.2, 0.6}};
+  const PathRun run = follow({1.2, 0.6, 0.0}, cps, 0.0);
+  EXPECT_TRUE(run.finished);
+  EXPECT_EQ(run.passed, 3);
+  EXPECT_LE(run.final_error, 0.010);
+  EXPECT_LE(run.max_deviation, 0.030);
+}
+
 // Logion's path settings (config/logion.yaml, hal/driver/path).
 PathFollowerConfig logionPathConfig() {
   PathFollowerConfig pcfg;

@@ -201,6 +201,26 @@ class KeepPlayingTest(unittest.TestCase):
         self.assertEqual(runner.outcome, 'aborted')
         self.assertEqual((task.runs, asked), (3, ['aborted'] * 3))
 
+    def test_nothing_found_starts_again_at_once(self):
+        # 'succeeded' listed (nothing left now: look again): no back-off after a run longer than
+        # the first back-off, the first back-off after a shorter one (no busy loop).
+        starts = []
+
+        def look(ud):
+            starts.append(time.monotonic())
+            time.sleep(0.1 if len(starts) < 3 else 0.0)
+            return 'succeeded' if len(starts) < 5 else 'aborted'
+
+        task = CBState(look, outcomes=['succeeded', 'aborted'])
+        sup = Supervisor(task_machine(task), restart_on=('succeeded',), backoff=(0.05, 1.0))
+        runner = Runner('sup')
+        runner.start(sup)
+        self.assertTrue(runner.wait(5.0))
+        self.assertEqual((runner.outcome, len(starts)), ('aborted', 5))
+        gaps = [b - a for a, b in zip(starts, starts[1:])]
+        self.assertLess(gaps[0] - 0.1, 0.045)        # at once after a 0.1 s run
+        self.assertGreaterEqual(gaps[3], 0.05)       # after a run of 0 s: the first back-off
+
     def test_outcomes_not_listed_end_the_supervisor(self):
         task = Outcomes(['succeeded'])
         sup = Supervisor(task_machine(task), restart_on=('aborted',))

@@ -32,6 +32,7 @@ class Robot(object):
         self.cmds = []            # (wall time, linear.x, angular.z)
         self.localize = True      # publish /mcl/pose and /mcl/quality
         self.odometry = True      # publish /odom (False: the odometry died)
+        self.walled = False       # True: a wall holds the robot, its wheels stall (it does not move)
         self.probability = 0.9
         self.odom_pub = rospy.Publisher('/odom', Odometry, queue_size=1)
         self.pose_pub = rospy.Publisher('/mcl/pose', PoseWithCovarianceStamped, queue_size=1)
@@ -74,6 +75,8 @@ class Robot(object):
             self.y += self.v * dt * math.sin(self.th)
             self.th = math.atan2(math.sin(self.th + self.w * dt), math.cos(self.th + self.w * dt))
             self.v, self.w = self.pending.linear.x, self.pending.angular.z  # applied from the next step
+            if self.walled:
+                self.v = self.w = 0.0
             x, y, th, v, w = self.x, self.y, self.th, self.v, self.w
         now = rospy.Time.now()
         o = Odometry()
@@ -117,6 +120,7 @@ class DriverDeviceTest(unittest.TestCase):
     def setUp(self):
         self.robot.localize = True
         self.robot.odometry = True
+        self.robot.walled = False
         self.robot.probability = 0.9
         self.robot.place(0.5, 0.5, 0.0)
         time.sleep(0.3)
@@ -276,6 +280,22 @@ class DriverDeviceTest(unittest.TestCase):
         self.assertTrue(self.straight.wait_for_result(rospy.Duration(20)))
         self.assertEqual(self.straight.get_state(), GoalStatus.SUCCEEDED, self.straight.get_goal_status_text())
         self.assertAlmostEqual(self.robot.pose()[0], 0.5 + 0.6, delta=0.02)
+
+    def test_a_stall_ends_the_goal_blocked(self):
+        # Pushing a wall no sensor sees: commanded, odometry reads no motion for stall_timeout (1 s).
+        self.goto.send_goal(GotoGoal(x=2.5, y=0.5, angle=0.0, timeout=30.0))
+        time.sleep(0.8)
+        t0 = time.monotonic()
+        self.robot.walled = True
+        try:
+            self.assertTrue(self.goto.wait_for_result(rospy.Duration(5)))
+            r = self.goto.get_result()
+            self.assertEqual(r.code, GotoResult.BLOCKED, r.message)
+            self.assertIn('stalled', r.message)
+            self.assertGreaterEqual(time.monotonic() - t0, 1.0)
+            self.assertStoppedAfter(t0, within=1.0 + 0.5)
+        finally:
+            self.robot.walled = False
 
     def test_deactivation_aborts_and_refuses(self):
         deactivate = rospy.ServiceProxy('/effectors/deactivate', Trigger)

@@ -7,8 +7,12 @@ from smart_brain.statemachine import clock
 
 
 class WorldView(object):
-    def __init__(self, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0):
+    def __init__(self, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0, border_margin=0.0):
         import rospy
+        #: [m] elements seen closer than this to a border are left out: a detection on the border
+        #: line is no element, and one lying against the border cannot be taken without pushing it
+        self.border_margin = float(border_margin)
+        self.table = (float(rospy.get_param('/table/length', 3.0)), float(rospy.get_param('/table/width', 2.1)))
         from geometry_msgs.msg import PoseWithCovarianceStamped
         from hal_nodes.msg import GameElements
         self.max_age = max_age
@@ -40,7 +44,8 @@ class WorldView(object):
             pose = self._pose
         if clock.now() - stamp > self.max_age:
             return []
-        items = [e for e in items if e[0] in kinds]
+        m = self.border_margin
+        items = [e for e in items if e[0] in kinds and m <= e[1] <= self.table[0] - m and m <= e[2] <= self.table[1] - m]
         if pose is not None:
             items.sort(key=lambda e: math.hypot(e[1] - pose[0], e[2] - pose[1]))
         return items

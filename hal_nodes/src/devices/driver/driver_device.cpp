@@ -20,6 +20,9 @@
 // effector's /diagnostics status at ERROR (~motor_status, a status-name prefix, default
 // "hal/drive:"; "" disables). A match is lost by a robot that gives up on a 1 s board outage.
 // (~predict_pose [true]: the map pose is carried from the newest /odom's stamp to now by its twist.)
+// A stall ends the goal BLOCKED: the wheels commanded (>= 0.05 m/s or 0.3 rad/s) while odometry
+// reads no motion for ~stall_timeout [s] (default 1; 0 disables), e.g. pushing a border where no
+// ranger or bumper sees it. A motor held at stall heats up and the goal makes no progress.
 // Every controlled command goes through the VelocityLimiter (~limits/*); only the stop itself
 // skips the deceleration ramp.
 //
@@ -170,6 +173,8 @@ class Driver : public Effector {
     requirePositive(p, "max_pose_age", max_pose_age_);
     max_odom_age_ = optionalDouble(p, "max_odom_age", 0.2);
     requirePositive(p, "max_odom_age", max_odom_age_);
+    stall_timeout_ = optionalDouble(p, "stall_timeout", 1.0);
+    hcl_drivers::requireInRange(p, "stall_timeout", stall_timeout_, 0.0, 60.0);
     max_hold_ = optionalDouble(p, "max_hold", 5.0);
     hcl_drivers::requireInRange(p, "max_hold", max_hold_, 0.0, 60.0);
     p.param("predict_pose", predict_pose_, true);
@@ -251,6 +256,7 @@ class Driver : public Effector {
     std::string why;
     if (!inputsSound(&code, &why)) return hold(code, why, now);
     if (!held_since_.isZero() || !move_started_) resume();
+    if (stalled(now)) return finish(BLOCKED, stall_message_, false);
     switch (mode_) {
       case Mode::GOTO: stepGoto(dt); break;
       case Mode::PATH: stepPath(dt); break;
@@ -281,6 +287,7 @@ class Driver : public Effector {
     stat.add("motor fault", motor_fault_ ? motor_fault_message_ : std::string("no"));
     stat.add("holding", held_since_.isZero() ? std::string("no") : waiting_);
     stat.add("goals held", holds_);
+    stat.add("stalls", stalls_);
     stat.addf("last command", "v %.3f m/s, w %.3f rad/s", limiter_.last().v, limiter_.last().w);
   }
 
@@ -468,6 +475,7 @@ class Driver : public Effector {
     blocked_since_ = ros::Time();
     stopped_now_ = false;
     held_since_ = ros::Time();
+    stall_since_ = ros::Time();
     waiting_.clear();
     move_started_ = false;
     limiter_.reset();
@@ -552,6 +560,28 @@ class Driver : public Effector {
         return;
     }
     move_started_ = true;
+  }
+
+  // Commanded to move, odometry reads no motion, for stall_timeout: stalled.
+  bool stalled(const ros::Time& now) {
+    static constexpr double kMoving = 0.05, kTurning = 0.3;     // [m/s, rad/s] commanded
+    static constexpr double kStillV = 0.01, kStillW = 0.05;    // [m/s, rad/s] measured
+    const Twist2D cmd = limiter_.last();
+    const auto o = odom_->fresh(max_odom_age_);
+    const bool pushing = stall_timeout_ > 0.0 && o && (std::abs(cmd.v) >= kMoving || std::abs(cmd.w) >= kTurning) &&
+                         std::abs(o->twist.twist.linear.x) < kStillV && std::abs(o->twist.twist.angular.z) < kStillW;
+    if (!pushing) {
+      stall_since_ = ros::Time();
+      return false;
+    }
+    if (stall_since_.isZero()) stall_since_ = now;
+    if ((now - stall_since_).toSec() < stall_timeout_) return false;
+    char buf[160];
+    snprintf(buf, sizeof buf, "stalled: commanded v %.2f m/s, w %.2f rad/s but odometry reads no motion for %.1f s", cmd.v, cmd.w,
+             (now - stall_since_).toSec());
+    stall_message_ = buf;
+    ++stalls_;
+    return true;
   }
 
   void publishFeedback() {
@@ -1009,6 +1039,8 @@ class Driver : public Effector {
   Mode mode_ = Mode::NONE;
   ros::Time last_refresh_, last_map_stamp_, timeout_, blocked_since_;
   ros::Time held_since_;        // the running goal holds for a passing fault since then (zero: it drives)
+  ros::Time stall_since_;       // commanded to move while odometry reads none since then
+  std::string stall_message_;
   std::string waiting_;         // why it holds
   bool move_started_ = false;   // the goal's autopilot / curve / relative move was started from a pose
   GoStraightGoal straight_goal_;
@@ -1027,12 +1059,12 @@ class Driver : public Effector {
 
   double default_position_tolerance_ = 0.01, default_angle_tolerance_ = 0.035, default_straight_tolerance_ = 0.005;
   bool predict_pose_ = true;
-  double max_hold_ = 5.0;
+  double max_hold_ = 5.0, stall_timeout_ = 1.0;
   double max_pose_age_ = 0.5, max_odom_age_ = 0.2, min_probability_ = 0.5, detour_tolerance_ = 0.05, obstacle_max_age_ = 0.3;
   std::string motor_status_, base_frame_, map_frame_;
   bool motor_fault_ = false;
   std::string motor_fault_message_;
-  unsigned long goals_ = 0, aborted_ = 0, holds_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0;
+  unsigned long goals_ = 0, aborted_ = 0, holds_ = 0, stalls_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0;
 };
 
 }  // namespace hal_nodes

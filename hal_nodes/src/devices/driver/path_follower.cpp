@@ -79,7 +79,9 @@ Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
   const bool final_approach = index_ + 1 == samples_.size();
   remaining_ = final_approach ? std::max(0.0, along_end) : arc_left + std::max(0.0, (ref.x - pose.x) * c + (ref.y - pose.y) * s);
 
-  if (!settling_ && (d_end <= 0.5 * tolerance_ || (d_end <= tolerance_ && along_end <= 0.0))) settling_ = true;
+  // Only on the last segment: a curve that comes back to where it starts is not done at its start.
+  const bool last_segment = ref.segment == end.segment;
+  if (!settling_ && last_segment && (d_end <= 0.5 * tolerance_ || (d_end <= tolerance_ && along_end <= 0.0))) settling_ = true;
   if (settling_ && d_end > 2.0 * tolerance_) settling_ = false;
   if (settling_) {
     if (current.v == 0.0 && current.w == 0.0) done_ = true;

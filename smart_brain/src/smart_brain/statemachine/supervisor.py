@@ -10,9 +10,11 @@ The handler state's outcome decides:
   'aborted'   end the supervisor with 'aborted'
   'preempted' the handler itself was preempted: end with 'preempted'
 The supervisor's outcomes are the body's, except those in `restart_on`: a body ending with one
-of them starts again from its initial state after a back-off (`backoff` = (first, longest) [s]
-on the brain's clock: doubling while the body keeps ending sooner than `longest` after its
-start, back to `first` after a longer run). `before_restart(outcome)`, when given, runs first
+of them starts again from its initial state. After 'aborted' (something failed: give it time to
+change) it waits a back-off first (`backoff` = (first, longest) [s] on the brain's clock:
+doubling while the body keeps ending sooner than `longest` after its start, back to `first`
+after a longer run); after another outcome (e.g. 'succeeded': nothing found, look again) it
+starts at once, unless its run was shorter than `first` (no busy loop). `before_restart(outcome)`, when given, runs first
 (the strategy forgets a failed task, picks the next one) and may return False: nothing is left
 to do, the supervisor ends with that outcome. A match strategy gives up on a task, never on the
 match:
@@ -200,7 +202,10 @@ class Supervisor(Container):
             if ended not in self.restart_on or not self._wants_restart(ended):
                 return self._finish(ended)
             ran = clock.now() - body_started
-            delay = self.backoff[0] if ran >= self.backoff[1] or delay == 0.0 else min(2.0 * delay, self.backoff[1])
+            if ended != 'aborted':
+                delay = 0.0 if ran >= self.backoff[0] else self.backoff[0]
+            else:
+                delay = self.backoff[0] if ran >= self.backoff[1] or delay == 0.0 else min(2.0 * delay, self.backoff[1])
             restart_at = clock.now() + delay
             self._note('body ended %s: starting it again in %.1f s' % (ended, delay))
 

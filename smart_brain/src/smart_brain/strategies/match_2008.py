@@ -6,7 +6,9 @@ Loop: take the balls of our kinds the vision device sees now (nearest-first, up 
 (/hal/driver/follow_path), drive to the basket, unload, again. When no ball is seen,
 drive the configured search path and look again; after `max_searches` empty looks the
 machine ends, and the strategy starts it again after a back-off (balls roll, the opponent
-moves them): it plays until the match ends (MachineStrategy.restart_on). Config: ~match2008/{ball_kinds, max_balls, basket, search, max_searches,
+moves them): it plays until the match ends (MachineStrategy.restart_on). Balls seen closer than `border_margin` to a border are left: the harvester cannot take one lying
+against the border without the robot pushing it, and a detection on the border line is none.
+Config: ~match2008/{ball_kinds, max_balls, basket, search, max_searches, border_margin,
 harvester_topic, harvester_speed, unload_speed, unload_time, vision_topic}. The harvester
 is an effector input (std_msgs/Float64, its speed); with harvester_topic empty the
 harvester is passive (a fixed brush) and unloading is just waiting at the basket.
@@ -44,7 +46,8 @@ class Match2008Strategy(MachineStrategy):
         topic = self.param('harvester_topic', '')
         self.speed = float(self.param('harvester_speed', 1.0))
         self.unload_speed = float(self.param('unload_speed', -1.0))
-        self.world = WorldView(self.param('vision_topic', '/hal/vision/elements'))
+        self.world = WorldView(self.param('vision_topic', '/hal/vision/elements'),
+                               border_margin=float(self.param('border_margin', 0.08)))
         self.harvester = rospy.Publisher(topic, Float64, queue_size=1, latch=True) if topic else None
         self.searches = 0
 
