@@ -10,7 +10,7 @@ opponent is held for the whole match (empty: it plays as configured).
 
 Checked:
 - after each fault ends, the robot commands a non-zero speed again within ~resume_within
-  (5 s) of simulated time;
+  (5 s) of simulated time, and again in the 2 * resume_within after that (it plays on);
 - ~score_after (a match time, or absent): our score grows after it;
 - ~replan_within (with ~park_opponent): a goal the driver ended BLOCKED is followed by a goal
   to another place within that many seconds;
@@ -146,6 +146,12 @@ class MatchFaultsTest(unittest.TestCase):
                             % (f['kind'], resume_within, fault_end - t0, summary))
             note('%s at %.1f s: driving again %.2f s after it ended',
                           f['kind'], f['at'], moving[0] - fault_end)
+            # ... and it keeps playing: a fault seen late (a kidnap, noticed by the localization
+            # after the robot drove on) must not stop it either.
+            later = [t for t, v, w in commands
+                     if fault_end + resume_within < t <= min(end, fault_end + 3 * resume_within) and (abs(v) > 1e-3 or abs(w) > 1e-3)]
+            self.assertTrue(later, '%s: no speed commanded from %.1f to %.1f s after it ended; %s'
+                            % (f['kind'], resume_within, 3 * resume_within, summary))
         score_after = rospy.get_param('~score_after', None)
         if score_after is not None:
             before = [s for t, s in scores if t <= t0 + score_after]
