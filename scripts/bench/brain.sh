@@ -37,7 +37,7 @@ zero = threading.Event()
 def on_twist(m):
     if m.linear.x == 0.0 and m.angular.z == 0.0:
         zero.set()
-rospy.Subscriber('/hal/drive/cmd_vel', Twist, on_twist, queue_size=10)
+rospy.Subscriber('/hal/drive/cmd_vel', Twist, on_twist, queue_size=10, tcp_nodelay=True)
 pub = rospy.Publisher('/hal/rangers/sharp_front_left', Range, queue_size=1)
 
 def rng(r):

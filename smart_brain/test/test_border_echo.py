@@ -3,6 +3,7 @@ is explained from (a tf buffer filled by hand: no ROS master needed)."""
 import math
 import os
 import sys
+import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src'))
@@ -32,11 +33,11 @@ class BorderDistanceTest(unittest.TestCase):
         self.assertEqual(border_distance(-0.1, 1.0, 0.0, 0.3, L, W), 0.0)
 
 
-def sensor_transform(stamp, x, y, heading):
+def sensor_transform(stamp, x, y, heading, parent='map', child='ranger'):
     import rospy
     from geometry_msgs.msg import TransformStamped
     t = TransformStamped()
-    t.header.stamp, t.header.frame_id, t.child_frame_id = rospy.Time.from_sec(stamp), 'map', 'ranger'
+    t.header.stamp, t.header.frame_id, t.child_frame_id = rospy.Time.from_sec(stamp), parent, child
     t.transform.translation.x, t.transform.translation.y = x, y
     t.transform.rotation.z, t.transform.rotation.w = math.sin(heading / 2), math.cos(heading / 2)
     return t
@@ -73,6 +74,31 @@ class BorderEchoPoseTest(unittest.TestCase):
     def test_a_reading_older_than_tf_uses_the_latest_pose(self):
         self.assertTrue(self.echo.explains(self.reading(1.0, 0.40)))
         self.assertFalse(self.echo.explains(self.reading(1.0, 0.19)))
+
+
+class BorderEchoOdometryChainTest(unittest.TestCase):
+    """map -> odom lags the reading (the localization has not processed it yet): the sensor's
+    pose comes from odom -> ranger at the reading's stamp under the newest map -> odom, at once."""
+
+    def setUp(self):
+        import tf2_ros
+        from smart_brain.triggers.border_echo import BorderEcho
+        buf = tf2_ros.Buffer(debug=False)
+        # map -> odom: identity, known up to 10.0 s only
+        buf.set_transform(sensor_transform(10.0, 0.0, 0.0, 0.0, parent='map', child='odom'), 'test')
+        for stamp, heading in ((10.0, 0.0), (10.15, math.pi / 4), (10.3, 0.0)):
+            buf.set_transform(sensor_transform(stamp, 0.37, 1.92, heading, parent='odom'), 'test')
+        self.echo = BorderEcho(L, W, 0.08, buffer=buf)
+
+    def test_a_reading_newer_than_map_to_odom_is_placed_by_odometry(self):
+        from sensor_msgs.msg import Range
+        import rospy
+        wall = border_distance(0.37, 1.92, math.pi / 4, 0.96, L, W)
+        m = Range(range=wall, field_of_view=0.96, min_range=0.16, max_range=6.0)
+        m.header.frame_id, m.header.stamp = 'ranger', rospy.Time.from_sec(10.15)
+        t0 = time.monotonic()
+        self.assertTrue(self.echo.explains(m))   # from the pose at 10.15 s (45 deg), not the newest (0 deg)
+        self.assertLess(time.monotonic() - t0, 0.02)
 
 
 if __name__ == '__main__':

@@ -36,12 +36,15 @@ def border_distance(x, y, heading, field_of_view, length, width, rays=9):
 
 
 class BorderEcho(object):
-    def __init__(self, length, width, tolerance, map_frame='map', tf_timeout=0.05, buffer=None):
-        """`buffer`: a tf2_ros.Buffer to read poses from (tests); by default one fed by a listener."""
+    def __init__(self, length, width, tolerance, map_frame='map', odom_frame='odom', tf_timeout=0.0, buffer=None):
+        """`buffer`: a tf2_ros.Buffer to read poses from (tests); by default one fed by a listener.
+        `tf_timeout` [s]: how long a lookup may wait for a transform. 0: none; the trigger decides
+        in the reading's callback, and a wait there is reflex latency (a 50 ms wait made the brain's
+        stop take 100 ms)."""
         import tf2_ros
         import rospy
         self.length, self.width, self.tolerance = float(length), float(width), float(tolerance)
-        self.map_frame = map_frame
+        self.map_frame, self.odom_frame = map_frame, odom_frame
         self._timeout = rospy.Duration(tf_timeout)
         if buffer is None:
             buffer = tf2_ros.Buffer()
@@ -53,12 +56,20 @@ class BorderEcho(object):
 
         An SRF02 reading reaches the brain ~0.14 s after its ping: a robot turning in place near
         a wall has turned 5-10 deg since, and the border seen from its pose now is a wall the
-        ping never saw (the opponent_ahead trigger fired on such echoes in homologation)."""
+        ping never saw (the opponent_ahead trigger fired on such echoes in homologation).
+        map -> odom lags the readings (the localization publishes it after processing them), so
+        without waiting: the whole chain at the stamp if tf has it, else odom -> sensor at the stamp
+        (odometry is fresh) under the newest map -> odom, else the newest of all."""
         import rospy
         if not msg.header.stamp.is_zero():
             t = self._lookup(msg.header.frame_id, msg.header.stamp)
             if t is not None:
                 return t
+            try:
+                return self._buffer.lookup_transform_full(self.map_frame, rospy.Time(0), msg.header.frame_id,
+                                                          msg.header.stamp, self.odom_frame, self._timeout)
+            except Exception:
+                pass
         return self._lookup(msg.header.frame_id, rospy.Time(0))
 
     def _lookup(self, frame, stamp):
