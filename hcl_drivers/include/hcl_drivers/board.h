@@ -51,4 +51,13 @@ class Board {
   std::string last_error_;
 };
 
+// A command topic of a board (~motor/<name>/command, ...): the newest command only (queue 1), sent
+// without Nagle's delay. Commands are small and frequent; with Nagle a command waits for the
+// acknowledgement of the previous one, which the receiver may delay by up to 40 ms.
+template <class M>
+ros::Subscriber subscribeCommand(ros::NodeHandle& nh, const std::string& topic,
+                                 const boost::function<void(const typename M::ConstPtr&)>& callback) {
+  return nh.subscribe<M>(topic, 1, callback, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+}
+
 }  // namespace hcl_drivers
