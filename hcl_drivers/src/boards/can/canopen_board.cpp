@@ -222,9 +222,14 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("NMT state (heartbeat)", canopen::toString(node_->heartbeatState()));
   stat.add("heartbeat producer time [ms]", heartbeat_watched_ ? heartbeat_ms_ : 0);
   stat.addf("heartbeat age [ms]", "%.0f", 1e3 * node_->heartbeatAge());
-  // Checked here too, on the diagnostics timer: a slow poll must not delay the report.
+  // Checked here too, on the diagnostics timer: a slow poll must not delay the report. The cause
+  // first: a bus-off controller hears no heartbeat either, and the poll that would say so may
+  // not have run since the bus went off.
   const double silence = heartbeatSilence();
-  if (silence > 0)
+  if (bs.state == BusState::kBusOff)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "CAN bus %s is bus-off (%s)", bus_->url().c_str(),
+                  bs.last_error.c_str());
+  else if (silence > 0)
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::STALE, "no heartbeat from node %d for %.0f ms (producer time %d ms)",
                   node_id_, 1e3 * silence, heartbeat_ms_);
   stat.add("bus", bus_->url());
