@@ -249,8 +249,9 @@ def off_table(truth, length, width):
     return None
 
 
-def figures(m, config, start, end):
-    """The row's figures of one recorded match (None where the bag cannot tell)."""
+def figures(m, config, start, end, idle):
+    """The row's figures of one recorded match (None where the bag cannot tell); `idle`: its idle
+    stretches (Match.idle)."""
     out = dict(ours=None, theirs=None, loc_rmse=None, loc_max=None, idle=None, idle_max=None, effectors_off=None, errors=[])
     _, _, score = m.score_series()
     if score:
@@ -266,12 +267,11 @@ def figures(m, config, start, end):
             out.update(errors=errors, loc_rmse=math.sqrt(sum(e * e for e in errors) / len(errors)),
                        loc_max=max(errors))
         out['effectors_off'] = effectors_off_delay(m, end)
-        idle = m.idle(start, end)
         out.update(idle=sum(b - a for a, b in idle), idle_max=max([b - a for a, b in idle] or [0.0]))
     return out
 
 
-def broken_invariants(m, config, start, end, effectors_off):
+def broken_invariants(m, config, start, end, effectors_off, idle):
     """What the recorded match did that no match may do."""
     broken = []
     if start is None:
@@ -281,7 +281,7 @@ def broken_invariants(m, config, start, end, effectors_off):
     elif effectors_off is None:
         broken.append('the effectors were still on %.0f s after the match end' % EFFECTORS_GRACE)
     if start is not None and end is not None:
-        for t0, seconds in too_long(m.idle(start, end), end):
+        for t0, seconds in too_long(idle, end):
             broken.append('idle for %.1f s from %.1f s into the match with more than %.0f s left'
                           % (seconds, t0 - start, IDLE_LIMIT))
     left = off_table(m.poses('/sim/ground_truth'), config['table']['length'], config['table']['width'])
@@ -302,8 +302,9 @@ def analyse(seed, kind, folder, robot, config, rc, wall):
         m = Match(bag)
         start, _ = m.start_signal()
         end = m.match_end()
-        row.update(figures(m, config, start, end))
-        violations += broken_invariants(m, config, start, end, row['effectors_off'])
+        idle = m.idle(start, end)  # read from the bag once, for the row and the invariant
+        row.update(figures(m, config, start, end, idle))
+        violations += broken_invariants(m, config, start, end, row['effectors_off'], idle)
         m.bag.close()
     else:
         violations.append('the match never started (no bag: see %s)' % os.path.join(folder, 'run_match.out'))

@@ -96,6 +96,7 @@ class BorderEchoOdometryChainTest(unittest.TestCase):
         wall = border_distance(0.37, 1.92, math.pi / 4, 0.96, L, W)
         m = Range(range=wall, field_of_view=0.96, min_range=0.16, max_range=6.0)
         m.header.frame_id, m.header.stamp = 'ranger', rospy.Time.from_sec(10.15)
+        # Wall time on purpose: a tf wait blocks the callback's thread in wall time, whatever the clock.
         t0 = time.monotonic()
         self.assertTrue(self.echo.explains(m))   # from the pose at 10.15 s (45 deg), not the newest (0 deg)
         self.assertLess(time.monotonic() - t0, 0.02)

@@ -169,7 +169,8 @@ def task_machine(task):
 
 
 class KeepPlayingTest(unittest.TestCase):
-    """restart_on: a strategy gives up on a task, not on the match."""
+    """restart_on: a strategy gives up on a task, not on the match. The brain's clock in these
+    tests is the monotonic one (clock.py's default off ROS), so back-offs are timed on it."""
 
     def test_an_aborted_body_starts_again_after_a_growing_back_off(self):
         task = Outcomes(['aborted', 'aborted', 'aborted', 'succeeded'])

@@ -252,16 +252,17 @@ class Driver : public Effector {
       finish(TIMEOUT, "goal timeout expired", false);
       return;
     }
+    Pose2D pose;  // in map (goto, follow_path) or odom (relative moves): read once per period
     uint8_t code;
     std::string why;
-    if (!inputsSound(&code, &why)) return hold(code, why, now);
-    if (!held_since_.isZero() || !move_started_) resume();
+    if (!inputsSound(&pose, &code, &why)) return hold(code, why, now);
+    if (!held_since_.isZero() || !move_started_) resume(pose);
     if (stalled(now)) return finish(BLOCKED, stall_message_, false);
     switch (mode_) {
-      case Mode::GOTO: stepGoto(dt); break;
-      case Mode::PATH: stepPath(dt); break;
+      case Mode::GOTO: stepGoto(pose, dt); break;
+      case Mode::PATH: stepPath(pose, dt); break;
       case Mode::STRAIGHT:
-      case Mode::ROTATE: stepRelative(dt); break;
+      case Mode::ROTATE: stepRelative(pose, dt); break;
       case Mode::NONE: break;
     }
   }
@@ -483,23 +484,23 @@ class Driver : public Effector {
   }
 
   // ---------------------------------------------------------------- passing faults
-  // Whether the running goal's inputs allow driving now; if not, the code and reason.
-  bool inputsSound(uint8_t* code, std::string* why) {
+  // Whether the running goal's inputs allow driving now, with the pose to steer by (map for goto
+  // and follow_path, odometry for relative moves); if not, the code and reason.
+  bool inputsSound(Pose2D* pose, uint8_t* code, std::string* why) {
     if (motor_fault_) {
       *code = MOTOR_FAULT;
       *why = "drive effector reports an error: " + motor_fault_message_;
       return false;
     }
-    Pose2D pose;
     if (mode_ == Mode::STRAIGHT || mode_ == Mode::ROTATE) {
-      if (odomPose(&pose)) return true;
+      if (odomPose(pose)) return true;
       *code = ODOMETRY_STALE;
       char buf[96];
       snprintf(buf, sizeof buf, "odometry stale: age %.2f s (max %.2f s)", odom_->age(), max_odom_age_);
       *why = buf;
       return false;
     }
-    return mapPose(&pose, code, why);
+    return mapPose(pose, code, why);
   }
 
   // Zero speed while the fault lasts, the feedback saying why; past ~max_hold the goal ends.
@@ -523,22 +524,17 @@ class Driver : public Effector {
   // The inputs are sound (again, or for the first time since the goal came): a goto or a path
   // is planned from where the robot is now (it may have been pushed while it held); a relative
   // move keeps its target in the odometry frame and is only started if it was not yet.
-  void resume() {
+  void resume(const Pose2D& pose) {
     if (!held_since_.isZero())
       ROS_INFO("driver: inputs sound again after %.2f s: the goal goes on", (ros::Time::now() - held_since_).toSec());
     held_since_ = ros::Time();
     waiting_.clear();
     limiter_.reset();
-    Pose2D pose;
-    uint8_t code;
-    std::string why;
     switch (mode_) {
       case Mode::GOTO:
-        if (!mapPose(&pose, &code, &why)) return;
         startLeg(pose);
         break;
       case Mode::PATH:
-        if (!mapPose(&pose, &code, &why)) return;
         if (move_started_) {
           popPassed();
           queue_.erase(queue_.begin(), queue_.begin() + passed_in_path_);
@@ -546,13 +542,13 @@ class Driver : public Effector {
         rebuildPath(pose);
         break;
       case Mode::STRAIGHT:
-        if (move_started_ || !odomPose(&pose)) break;
+        if (move_started_) break;
         straight_.start(pose, straight_goal_.backwards ? -straight_goal_.distance : straight_goal_.distance,
                         straight_goal_.tolerance > 0 ? straight_goal_.tolerance : default_straight_tolerance_,
                         straight_goal_.max_speed);
         break;
       case Mode::ROTATE:
-        if (move_started_ || !odomPose(&pose)) break;
+        if (move_started_) break;
         rotation_.start(pose, rotate_goal_.angle, rotate_goal_.tolerance > 0 ? rotate_goal_.tolerance : default_angle_tolerance_,
                         rotate_goal_.max_speed);
         break;
@@ -725,11 +721,7 @@ class Driver : public Effector {
     return !blocked_since_.isZero() && (ros::Time::now() - blocked_since_).toSec() > avoidance_.config().blocked_timeout;
   }
 
-  void stepGoto(double dt) {
-    Pose2D pose;
-    uint8_t code;
-    std::string why;
-    if (!mapPose(&pose, &code, &why)) return finish(code, why, false);
+  void stepGoto(const Pose2D& pose, double dt) {
     // The route: robot, detour waypoints, target.
     std::vector<Point2D> route{{pose.x, pose.y}};
     for (const auto& w : waypoints_) route.push_back(w);
@@ -799,9 +791,7 @@ class Driver : public Effector {
     goto_->publishFeedback(f);
   }
 
-  void stepRelative(double dt) {
-    Pose2D pose;
-    if (!odomPose(&pose)) return finish(ODOMETRY_STALE, "odometry stale", false);
+  void stepRelative(const Pose2D& pose, double dt) {
     if (mode_ == Mode::STRAIGHT) {
       const Twist2D d = straight_.step(pose, limiter_.last());
       if (straight_.done()) return finish(REACHED, "reached", true);
@@ -897,11 +887,7 @@ class Driver : public Effector {
     rebuildPath(pose);
   }
 
-  void stepPath(double dt) {
-    Pose2D pose;
-    uint8_t code;
-    std::string why;
-    if (!mapPose(&pose, &code, &why)) return finish(code, why, false);
+  void stepPath(const Pose2D& pose, double dt) {
     applyEdits(pose);
     const auto& samples = follower_.samples();
     std::vector<Point2D> route{{pose.x, pose.y}};
