@@ -110,6 +110,9 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     } else {
       stat.summary(DiagnosticStatus::OK, "ok");
     }
+    std::string condition;
+    const uint8_t condition_level = device_->condition(&condition);
+    if (condition_level != DiagnosticStatus::OK) stat.mergeSummary(condition_level, condition);
     stat.addf("configured rate [Hz]", "%.2f", rate_);
     stat.addf("achieved rate [Hz]", "%.2f", achieved);
     stat.addf("mean refresh time [ms]", "%.3f", 1e3 * meter_.meanBusy());

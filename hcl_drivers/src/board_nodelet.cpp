@@ -13,6 +13,7 @@ namespace hcl_drivers {
 using diagnostic_msgs::DiagnosticStatus;
 
 BoardNodeletBase::~BoardNodeletBase() {
+  reopen_timer_.stop();
   diagnostic_timer_.stop();
   if (joined_) LoopScheduler::instance().leave(member_name_);  // no service() runs after this
   if (board_) {
@@ -28,41 +29,77 @@ void BoardNodeletBase::onInit() {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   member_name_ = getName();
   try {
-    BoardContext ctx{getNodeHandle(), pnh, getName(), 0.0};
-    ctx.rate = requireDouble(pnh, "rate");
-    requirePositive(pnh, "rate", ctx.rate);
-    rate_ = ctx.rate;
+    rate_ = requireDouble(pnh, "rate");
+    requirePositive(pnh, "rate", rate_);
     stale_timeout_ = optionalDouble(pnh, "stale_timeout", std::max(0.3, 3.0 / rate_));
     requirePositive(pnh, "stale_timeout", stale_timeout_);
-    const std::string loop = optionalString(pnh, "loop", "");
+    reopen_period_ = optionalDouble(pnh, "reopen_period", 1.0);
+    requirePositive(pnh, "reopen_period", reopen_period_);
+    required_ = optionalBool(pnh, "required", true);
+    loop_ = optionalString(pnh, "loop", "");
     const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 0.25);
     requirePositive(pnh, "diagnostic_period", diagnostic_period);
     pnh.setParam("diagnostic_period", diagnostic_period);  // read by diagnostic_updater
-
-    board_ = createBoard();
-    board_->init(ctx);
-
-    updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
-    updater_->setHardwareID(getName());
-    updater_->add("board", this, &BoardNodeletBase::diagnose);
-    // The updater is driven from the callback queue, not the polling thread, so a board
-    // stuck in I/O is still reported.
-    diagnostic_timer_ = getNodeHandle().createTimer(ros::Duration(0.05), [this](const ros::TimerEvent&) {
-      updater_->update();
-    });
-
-    started_ = ros::Time::now();
-    LoopScheduler::instance().join(loop, member_name_, rate_, [this] { serviceOnce(); });
-    joined_ = true;
-    NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), rate_,
-                 LoopScheduler::instance().loopOf(member_name_).c_str());
   } catch (const ParameterError& e) {
     NODELET_FATAL("%s", e.what());
     throw;
-  } catch (const std::exception& e) {
-    NODELET_FATAL("board %s failed to start: %s", getName().c_str(), e.what());
-    throw;
   }
+
+  updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
+  updater_->setHardwareID(getName());
+  updater_->add("board", this, &BoardNodeletBase::diagnose);
+  // The updater is driven from the callback queue, not the polling thread, so a board
+  // stuck in I/O is still reported.
+  diagnostic_timer_ = getNodeHandle().createTimer(ros::Duration(0.05), [this](const ros::TimerEvent&) {
+    updater_->update();
+  });
+  started_ = ros::Time::now();
+
+  tryOpen();  // a bad parameter of the board itself stops the node here, with its one line
+  if (!joined_) {
+    reopen_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(reopen_period_), [this](const ros::WallTimerEvent&) {
+      tryOpen();
+      if (joined_) reopen_timer_.stop();
+    });
+  }
+}
+
+void BoardNodeletBase::tryOpen() {
+  std::lock_guard<std::mutex> open_lock(open_mutex_);
+  if (joined_) return;
+  std::unique_ptr<Board> board = createBoard();
+  std::string error;
+  try {
+    BoardContext ctx{getNodeHandle(), getPrivateNodeHandle(), getName(), rate_};
+    board->init(ctx);
+  } catch (const ParameterError& e) {
+    if (open_attempts_ == 0) {
+      NODELET_FATAL("%s", e.what());
+      throw;
+    }
+    error = e.what();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!error.empty()) {
+    std::lock_guard<std::mutex> lk(stats_mutex_);
+    if (error != open_error_)  // said once per distinct reason, not once a second
+      NODELET_ERROR("board %s cannot open its channel: %s; STALE, trying again every %.1f s%s", getName().c_str(),
+                    error.c_str(), reopen_period_, required_ ? "" : " (optional board)");
+    open_error_ = error;
+    ++open_attempts_;
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lk(stats_mutex_);
+    if (open_attempts_ > 0) NODELET_INFO("board %s: channel open after %lu failed attempts", getName().c_str(), open_attempts_);
+    open_error_.clear();
+    board_ = std::move(board);
+  }
+  LoopScheduler::instance().join(loop_, member_name_, rate_, [this] { serviceOnce(); });
+  joined_ = true;
+  NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), rate_,
+               LoopScheduler::instance().loopOf(member_name_).c_str());
 }
 
 void BoardNodeletBase::serviceOnce() {
@@ -115,6 +152,13 @@ void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   const double age = last_good_.isZero() ? -1.0 : (now - last_good_).toSec();
   const double since_start = (now - started_).toSec();
 
+  stat.add("required", required_ ? "true" : "false");  // readiness waits only for required boards
+  if (!board_) {
+    stat.summaryf(DiagnosticStatus::STALE, "cannot open the board's channel: %s (trying again every %.1f s)",
+                  open_error_.c_str(), reopen_period_);
+    stat.add("open attempts", open_attempts_);
+    return;
+  }
   if (last_good_.isZero() && since_start > stale_timeout_) {
     stat.summaryf(DiagnosticStatus::STALE, "no answer from the board since start: %s", last_error_.c_str());
   } else if (age > stale_timeout_) {

@@ -6,8 +6,8 @@
 
 TEST(FirmwareRegistry, ExampleBoardIsRegistered) {
   const auto types = robot_sim::FirmwareRegistry::instance().types();
-  EXPECT_NE(std::find(types.begin(), types.end(), "example_board"), types.end());
-  EXPECT_TRUE(robot_sim::FirmwareRegistry::instance().create("example_board"));
+  EXPECT_NE(std::find(types.begin(), types.end(), "ExampleBoard"), types.end());
+  EXPECT_TRUE(robot_sim::FirmwareRegistry::instance().create("ExampleBoard"));
 }
 
 TEST(FirmwareRegistry, UnknownTypeGivesNothing) {

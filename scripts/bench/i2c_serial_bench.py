@@ -33,7 +33,7 @@ def main():
             fw[name] = {'type': I2C_TYPES[block['type']], 'bus': bus, 'address': block['address']}
     beacons = dict(cfg['beacons'], port=tty)
     hcl['beacons'] = beacons
-    fw['beacons'] = {'type': 'beacon_receiver', 'port': tty, 'period': 0.01}
+    fw['beacons'] = {'type': 'BeaconReceiver', 'port': tty, 'period': 0.01}
     params = os.path.join(tmp, 'params.yaml')
     yaml.safe_dump({'hcl': hcl, 'sim': {'firmware': fw}}, open(params, 'w'))
     procs = []

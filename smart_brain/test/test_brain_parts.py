@@ -203,3 +203,30 @@ class RegistryTest(unittest.TestCase):
 
 if __name__ == '__main__':
     unittest.main()
+
+
+class ReadinessDiagnosticsTest(unittest.TestCase):
+    """What holds the start: every board or device not OK, except those that say they are optional."""
+
+    @staticmethod
+    def status(name, level, message, required=None):
+        from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+        s = DiagnosticStatus(name=name, level=level, message=message)
+        if required is not None:
+            s.values.append(KeyValue('required', required))
+        return s
+
+    def test_an_optional_board_does_not_hold_the_start(self):
+        from diagnostic_msgs.msg import DiagnosticStatus
+        from smart_brain.readiness import diagnostics_problems, is_required
+        stale = DiagnosticStatus.STALE
+        statuses = {}
+        for s in (self.status('/Boards/camera', stale, 'cannot open', 'false'),
+                  self.status('/Boards/motor_board', stale, 'not answering', 'true'),
+                  self.status('/Devices/odometry', DiagnosticStatus.ERROR, 'stale input'),
+                  self.status('/Boards/servo_board', DiagnosticStatus.OK, 'ok', 'true')):
+            statuses[s.name] = (s.level, s.message, is_required(s))
+        self.assertEqual(diagnostics_problems(statuses),
+                         ['/Boards/motor_board is STALE: not answering', '/Devices/odometry is ERROR: stale input'])
+        self.assertEqual(diagnostics_problems(statuses, optional=['odometry']),
+                         ['/Boards/motor_board is STALE: not answering'])

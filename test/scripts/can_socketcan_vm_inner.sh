@@ -32,7 +32,7 @@ hcl:
   motor_board: {type: MotorBoard, bus: "socketcan://vcan0", node_id: 10, rate: 20, motors: [left, right], answer_timeout: 0.2, sdo_timeout: 0.5, command_timeout: 1.0}
   hmi_inject: {type: HmiBoard, bus: "socketcan://vcan0", node_id: 20, rate: 2, answer_timeout: 0.45, stale_timeout: 5.0}
 firmware:
-  motor_board: {type: can_motor_board, bus: "socketcan://vcan0", node_id: 10, motors: [left, right]}
+  motor_board: {type: MotorBoard, bus: "socketcan://vcan0", node_id: 10, motors: [left, right]}
 YAML
 rosparam load /tmp/params.yaml /
 log "params loaded"

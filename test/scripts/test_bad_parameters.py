@@ -68,7 +68,7 @@ class BadParametersTest(unittest.TestCase):
         rc, out = run_node('robot_sim', 'firmware_host', 'bad_fw', {'x': {'type': 'no_such_firmware'}})
         self.assertNotEqual(rc, 0)
         self.assertIn("unknown emulator type; allowed values:", out)
-        self.assertIn('example_board', out)
+        self.assertIn('ExampleBoard', out)
 
 
 if __name__ == '__main__':

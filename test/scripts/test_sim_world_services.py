@@ -245,7 +245,7 @@ class SimServicesTest(unittest.TestCase):
         if rospy.has_param(ns + '/sim/firmware'):
             rospy.delete_param(ns + '/sim/firmware')
         rospy.set_param(ns + '/sim/firmware/motor_left', {
-            'type': 'hbmotor', 'bus': 'sim:///tmp/robot_sim/test/world_%d/i2c-1' % os.getpid(), 'address': 16,
+            'type': 'HBMotor', 'bus': 'sim:///tmp/robot_sim/test/world_%d/i2c-1' % os.getpid(), 'address': 16,
             'motor': 'left', 'encoder': 'left_driven'})
         env = dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED='1')
         p = subprocess.Popen(['rosrun', 'robot_sim', 'simulator', '__ns:=' + ns, '__name:=sim'],

@@ -6,8 +6,12 @@
 //   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
 //               inputs, compute, publish. Call setUnavailable("why") when it cannot.
 //   halt()      on shutdown.
+// The device's /diagnostics level comes from the framework (inputs, rate, availability); a device
+// raises it with setCondition(WARN or ERROR, "why") while something deserves a look although the
+// device still works (a temperature above its limit), and clearCondition() when it passes.
 #pragma once
 
+#include <diagnostic_msgs/DiagnosticStatus.h>
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <hcl_drivers/parameters.h>
 #include <ros/ros.h>
@@ -46,6 +50,12 @@ class Device {
     if (reason) *reason = unavailable_reason_;
     return unavailable_reason_.empty();
   }
+  // The condition set by the device: its level (OK when none) and message.
+  uint8_t condition(std::string* message) const {
+    std::lock_guard<std::mutex> lk(status_mutex_);
+    if (message) *message = condition_message_;
+    return condition_level_;
+  }
 
  protected:
   // Subscribe to an input topic in the pull model; `name` labels it on /diagnostics.
@@ -62,10 +72,22 @@ class Device {
     unavailable_reason_ = reason;
   }
 
+  // Raise the device's /diagnostics level (diagnostic_msgs::DiagnosticStatus::WARN or ERROR) with
+  // `message` (it replaces "ok", or joins the framework's own complaint after a "; "), until
+  // clearCondition(). It does not make the device unavailable. Thread-safe.
+  void setCondition(uint8_t level, const std::string& message) {
+    std::lock_guard<std::mutex> lk(status_mutex_);
+    condition_level_ = level;
+    condition_message_ = message;
+  }
+  void clearCondition() { setCondition(diagnostic_msgs::DiagnosticStatus::OK, ""); }
+
  private:
   std::vector<std::shared_ptr<InputStatus>> inputs_;
   mutable std::mutex status_mutex_;
   std::string unavailable_reason_ = "not refreshed yet";
+  uint8_t condition_level_ = diagnostic_msgs::DiagnosticStatus::OK;
+  std::string condition_message_;
 };
 
 }  // namespace hal_nodes

@@ -60,10 +60,12 @@ class DeviceNodelet : public DeviceNodeletBase {
 
 }  // namespace hal_nodes
 
-// Export a device type as a nodelet plugin; add a matching entry to nodelet_plugins.xml with
-// name="hal_nodes/<DeviceName>" type="hal_nodes::<DeviceName>Nodelet".
-#define HAL_EXPORT_DEVICE(DeviceName)                                                    \
-  namespace hal_nodes {                                                                  \
-  using DeviceName##Nodelet = DeviceNodelet<DeviceName>;                                 \
-  }                                                                                      \
+// Export a device class as nodelet plugin "hal_nodes/<Type>", the `type` of its config block:
+//   HAL_EXPORT_DEVICE(MyDevice, MyType, "one line for `rosrun nodelet declared_nodelets`");
+// at the start of a line, the description without double quotes. The build writes
+// nodelet_plugins.xml from these lines (hcl_drivers' cmake/generate_plugin_xml.cmake).
+#define HAL_EXPORT_DEVICE(DeviceName, Type, Description)                                \
+  namespace hal_nodes {                                                                 \
+  using DeviceName##Nodelet = DeviceNodelet<DeviceName>;                                \
+  }                                                                                     \
   PLUGINLIB_EXPORT_CLASS(hal_nodes::DeviceName##Nodelet, nodelet::Nodelet)

@@ -7,6 +7,12 @@
 //   ~loop             loop group name; boards naming the same loop share one thread (optional)
 //   ~stale_timeout    [s] no good exchange for this long = STALE (default max(0.3, 3 / rate))
 //   ~diagnostic_period [s] how often /diagnostics is published (default 0.25)
+//   ~required         true (default): the robot is not ready for a match without this board;
+//                     false: an optional board (a camera, a joystick), reported but not waited for.
+//                     Published as the `required` value of the board's /diagnostics status.
+//   ~reopen_period    [s, wall] a board whose channel cannot be opened (no /dev/i2c-1, no such
+//                     CAN interface, a serial port unplugged) is STALE and tried again this often
+//                     (default 1.0); the node and its other boards keep running.
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -32,17 +38,26 @@ class BoardNodeletBase : public nodelet::Nodelet {
 
  private:
   void onInit() final;
+  // Create the board and init() it (open its channel); on failure keep reporting STALE and retry.
+  void tryOpen();
   void serviceOnce();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
-  std::unique_ptr<Board> board_;
+  std::unique_ptr<Board> board_;  // null until its channel opened
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
+  ros::WallTimer reopen_timer_;  // wall time: a paused simulated clock must not stop the retries
+  std::mutex open_mutex_;        // one tryOpen() at a time (the callback queue is multi-threaded)
   std::string member_name_;
+  std::string loop_;
   bool joined_ = false;
 
   double rate_ = 0.0;
   double stale_timeout_ = 0.0;
+  double reopen_period_ = 1.0;
+  bool required_ = true;
+  std::string open_error_;  // why the channel could not be opened (empty once open)
+  unsigned long open_attempts_ = 0;
 
   mutable std::mutex stats_mutex_;  // guards everything below (loop thread vs diagnostics)
   RateMeter meter_;
@@ -63,10 +78,12 @@ class BoardNodelet : public BoardNodeletBase {
 
 }  // namespace hcl_drivers
 
-// Export a board type as a nodelet plugin; add a matching entry to nodelet_plugins.xml with
-// name="hcl_drivers/<BoardName>" type="hcl_drivers::<BoardName>Nodelet".
-#define HCL_EXPORT_BOARD(BoardName)                                                      \
-  namespace hcl_drivers {                                                                \
-  using BoardName##Nodelet = BoardNodelet<BoardName>;                                    \
-  }                                                                                      \
+// Export a board as nodelet plugin "hcl_drivers/<BoardName>", the `type` of its config block:
+//   HCL_EXPORT_BOARD(MyBoard, "one line for `rosrun nodelet declared_nodelets`");
+// at the start of a line, the description without double quotes. The build writes
+// nodelet_plugins.xml from these lines (cmake/generate_plugin_xml.cmake): nothing to register.
+#define HCL_EXPORT_BOARD(BoardName, Description)                                        \
+  namespace hcl_drivers {                                                               \
+  using BoardName##Nodelet = BoardNodelet<BoardName>;                                   \
+  }                                                                                     \
   PLUGINLIB_EXPORT_CLASS(hcl_drivers::BoardName##Nodelet, nodelet::Nodelet)

@@ -6,6 +6,9 @@ Otherwise `check()` names what is not, e.g. "/hcl died: parameter /hcl/motor_boa
 must be > 0" (a node's last FATAL or ERROR line on /rosout_agg is its last word) or
 "/Boards/motor_board: board is STALE: board not answering for 0.52 s".
 
+An optional board (`required: false` in its config block, published as the `required` value of
+its status) is reported but does not hold the start.
+
 Parameters (the brain's, config/<robot>.yaml `brain: ready:`):
   ~ready/nodes     product nodes that must run (default [/hcl, /hal])
   ~ready/optional  status names (substrings) whose level does not hold the start (default [])
@@ -51,12 +54,19 @@ def node_alive(master, name, timeout=0.5):
         return False
 
 
+def is_required(status):
+    """False when the status says its component is optional (its `required` value is false)."""
+    return not any(kv.key == 'required' and kv.value.strip().lower() in ('false', 'no') for kv in status.values)
+
+
 def diagnostics_problems(statuses, optional=()):
-    """The boards' and devices' items that are not OK: ['/Boards/x: board is STALE: why', ...]."""
+    """The boards' and devices' items that are not OK: ['/Boards/x: board is STALE: why', ...].
+    `statuses`: name -> (level, message) or (level, message, required)."""
     problems = []
     for name in sorted(statuses):
-        level, message = statuses[name]
-        if level == DiagnosticStatus.OK or any(o in name for o in optional):
+        level, message = statuses[name][:2]
+        required = statuses[name][2] if len(statuses[name]) > 2 else True
+        if level == DiagnosticStatus.OK or not required or any(o in name for o in optional):
             continue
         problems.append('%s is %s: %s' % (name, LEVELS.get(level, level), message))
     return problems
@@ -78,7 +88,7 @@ class Readiness(object):
         leaves = {}
         for s in msg.status:
             if s.name.startswith(GROUPS) and s.name.count('/') == 2:
-                leaves[s.name] = (s.level, s.message)
+                leaves[s.name] = (s.level, s.message, is_required(s))
         with self._lock:
             self._statuses = leaves
 

@@ -192,4 +192,5 @@ class BeaconsDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(BeaconsDevice)
+HAL_EXPORT_DEVICE(BeaconsDevice, Beacons,
+                  "Beacons: raw times of flight to distances with variance; runtime-settable, fittable equation.")

@@ -96,4 +96,5 @@ class BumpersDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(BumpersDevice)
+HAL_EXPORT_DEVICE(BumpersDevice, Bumpers,
+                  "Bumpers: named contacts from boards' digital inputs, with pressed/released edges.")

@@ -74,4 +74,5 @@ class CompassDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(CompassDevice)
+HAL_EXPORT_DEVICE(CompassDevice, Compass,
+                  "Compass: module bearing to a REP-103 heading in map, with calibration offset.")

@@ -130,4 +130,5 @@ class DifferentialDrive : public Effector {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(DifferentialDrive)
+HAL_EXPORT_DEVICE(DifferentialDrive, DifferentialDrive,
+                  "Differential-drive effector: cmd_vel to per-wheel motor commands in each board's native unit.")

@@ -1055,4 +1055,5 @@ class Driver : public Effector {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(Driver)
+HAL_EXPORT_DEVICE(Driver, Driver,
+                  "Driver: goto (Autopilot), go_straight, rotate_by and follow_path (Hermite) actions with avoidance, on /hal/drive/cmd_vel.")

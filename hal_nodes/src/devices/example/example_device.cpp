@@ -7,6 +7,8 @@
 //   ~board_lamp     the board's lamp command topic (default /hcl/example_board/lamp_pwm)
 //   ~max_input_age  [s] older board data makes the device unavailable (default 0.5)
 //   ~max_command_age [s] an older brightness command is dropped, lamp off (default 0.5)
+//   ~warn_above     dial position above which the device is WARN on /diagnostics (default 1.0:
+//                   never), to show how a device raises its level (setCondition)
 // Topics: ~reading (hal_nodes/ExampleReading, out), ~lamp (std_msgs/Float64 brightness, in).
 #include <hal_nodes/ExampleReading.h>
 #include <hcl_drivers/ExampleBoardState.h>
@@ -29,6 +31,8 @@ class ExampleDevice : public Effector {
     hcl_drivers::requirePositive(ctx.pnh, "max_input_age", max_input_age_);
     max_command_age_ = optionalDouble(ctx.pnh, "max_command_age", 0.5);
     hcl_drivers::requirePositive(ctx.pnh, "max_command_age", max_command_age_);
+    warn_above_ = optionalDouble(ctx.pnh, "warn_above", 1.0);
+    hcl_drivers::requireInRange(ctx.pnh, "warn_above", warn_above_, 0.0, 1.0);
     board_ = addInput<hcl_drivers::ExampleBoardState>(
         ctx.nh, optionalString(ctx.pnh, "board_state", "/hcl/example_board/state"), "board");
     brightness_ = addInput<std_msgs::Float64>(ctx.pnh, "lamp", "lamp command");
@@ -47,6 +51,11 @@ class ExampleDevice : public Effector {
       r.position = static_cast<double>(board->dial_raw) / 1023.0;
       r.input_age = (ros::Time::now() - board->header.stamp).toSec();
       reading_pub_.publish(r);
+      if (r.position > warn_above_)
+        setCondition(diagnostic_msgs::DiagnosticStatus::WARN, "dial at " + std::to_string(r.position) + ", above " +
+                                                                  std::to_string(warn_above_));
+      else
+        clearCondition();
     }
     if (!active()) return;  // deactivated: deactivate() switched the lamp off, stay quiet
     const auto cmd = brightness_->fresh(max_command_age_);
@@ -70,8 +79,10 @@ class ExampleDevice : public Effector {
   ros::Publisher reading_pub_;
   double max_input_age_ = 0.5;
   double max_command_age_ = 0.5;
+  double warn_above_ = 1.0;
 };
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(ExampleDevice)
+HAL_EXPORT_DEVICE(ExampleDevice, ExampleDevice,
+                  "Skeleton example device: dial position from the example board, lamp brightness back to it.")

@@ -173,4 +173,5 @@ class HandEffector : public Effector {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(HandEffector)
+HAL_EXPORT_DEVICE(HandEffector, Hand,
+                  "2009 hand: servo fingers and stepper lift as the preemptible hal_nodes/Hand action.")

@@ -82,4 +82,5 @@ class BallHarvester : public Effector {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(BallHarvester)
+HAL_EXPORT_DEVICE(BallHarvester, BallHarvester,
+                  "2008 ball harvester: roller speed effector with an optional ball sensor.")

@@ -154,4 +154,5 @@ class HumanInterface : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(HumanInterface)
+HAL_EXPORT_DEVICE(HumanInterface, HumanInterface,
+                  "Human interface: start cord, side and strategy choice, keys; shown on an LCD or LEDs.")

@@ -105,4 +105,5 @@ class JoystickDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(JoystickDevice)
+HAL_EXPORT_DEVICE(JoystickDevice, Joystick,
+                  "Joystick: named axes and buttons with edge events, independent of the pad.")

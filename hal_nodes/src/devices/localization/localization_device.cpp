@@ -650,4 +650,5 @@ class LocalizationDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(LocalizationDevice)
+HAL_EXPORT_DEVICE(LocalizationDevice, Localization,
+                  "Localization: Monte Carlo Localization on MRPT's particle filter (odometry, beacons, compass, rangers, bumpers, table model); /mcl/pose, /mcl/quality, map->odom tf.")

@@ -259,4 +259,5 @@ class OdometryDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(OdometryDevice)
+HAL_EXPORT_DEVICE(OdometryDevice, Odometry,
+                  "Odometry from one or more encoder pairs: /odom, odom->base_link tf, per-pair odometry.")

@@ -107,4 +107,5 @@ class RangersDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(RangersDevice)
+HAL_EXPORT_DEVICE(RangersDevice, Rangers,
+                  "Rangers: filtered sensor_msgs/Range per ranger (nonsense, peaks and noise removed).")

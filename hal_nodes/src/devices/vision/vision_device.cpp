@@ -212,4 +212,5 @@ class VisionDevice : public Device {
 
 }  // namespace hal_nodes
 
-HAL_EXPORT_DEVICE(VisionDevice)
+HAL_EXPORT_DEVICE(VisionDevice, Vision,
+                  "Vision: game elements found by colour in camera images, positioned on the table (map) with covariance.")

@@ -173,4 +173,5 @@ class Camera : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(Camera)
+HCL_EXPORT_BOARD(Camera,
+                 "Camera through OpenCV VideoCapture (V4L2 index/path or a stream URL): sensor_msgs/Image.")

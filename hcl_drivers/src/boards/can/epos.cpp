@@ -216,4 +216,5 @@ class Epos : public CanopenBoard {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(Epos)
+HCL_EXPORT_BOARD(Epos,
+                 "Maxon EPOS DS-402 drive: enable, profile velocity [rpm], position/velocity actual, fault state.")

@@ -127,4 +127,4 @@ class HmiBoard : public CanopenBoard {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(HmiBoard)
+HCL_EXPORT_BOARD(HmiBoard, "CAN human interface board: 2x16 character LCD, 4x4 keypad.")

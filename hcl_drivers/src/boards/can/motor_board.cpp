@@ -190,4 +190,5 @@ class MotorBoard : public CanopenBoard {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(MotorBoard)
+HCL_EXPORT_BOARD(MotorBoard,
+                 "CAN motor board: 2 PWM H-bridges, 2 32-bit encoder counters (CANopen PDOs).")

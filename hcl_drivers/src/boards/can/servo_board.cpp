@@ -159,4 +159,5 @@ class ServoBoard : public CanopenBoard {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(ServoBoard)
+HCL_EXPORT_BOARD(ServoBoard,
+                 "CAN servo board: 4 RC servos, 4 SHARP GP2D12 IR rangers (metres), 16 switches.")

@@ -148,4 +148,5 @@ class StepperBoard : public CanopenBoard {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(StepperBoard)
+HCL_EXPORT_BOARD(StepperBoard,
+                 "CAN stepper board: 2 steppers with position targets, min/max end switches.")

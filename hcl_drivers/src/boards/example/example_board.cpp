@@ -143,4 +143,5 @@ class ExampleBoard : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(ExampleBoard)
+HCL_EXPORT_BOARD(ExampleBoard,
+                 "Skeleton example board over UDP: a dial (ADC) in, a lamp (PWM) out.")

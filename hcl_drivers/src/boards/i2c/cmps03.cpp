@@ -78,4 +78,4 @@ class CMPS03 : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(CMPS03)
+HCL_EXPORT_BOARD(CMPS03, "CMPS03 I2C magnetic compass (bearing 0..359.9 degrees).")

@@ -180,4 +180,5 @@ class HBMotor : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(HBMotor)
+HCL_EXPORT_BOARD(HBMotor,
+                 "Logion HBmotor I2C H-bridge board: one motor command out, one 32-bit encoder counter in.")

@@ -1,6 +1,7 @@
 #include "hcl_drivers/boards/i2c_device.h"
 
 #include <cstdio>
+#include <stdexcept>
 #include <system_error>
 
 #include "hcl_drivers/parameters.h"
@@ -27,7 +28,8 @@ I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address
   } catch (const std::invalid_argument& e) {
     throw ParameterError("parameter " + qualified(pnh, "bus") + ": " + e.what());
   } catch (const std::system_error& e) {
-    throw ParameterError("parameter " + qualified(pnh, "bus") + " = '" + url + "': " + e.what());
+    // a bus that cannot be opened is not a configuration error: the framework retries it
+    throw std::runtime_error("I2C bus " + qualified(pnh, "bus") + " = '" + url + "': " + e.what());
   }
   d.bus->setTimeout(timeout);
   d.bus->setRetries(retries);

@@ -174,4 +174,4 @@ class MCP23016 : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(MCP23016)
+HCL_EXPORT_BOARD(MCP23016, "MCP23016 I2C 16-bit I/O expander: buttons in, LEDs out.")

@@ -132,4 +132,5 @@ class SRF02 : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(SRF02)
+HCL_EXPORT_BOARD(SRF02,
+                 "SRF02 I2C ultrasonic ranger (two-phase ranging, sensor_msgs/Range in metres).")

@@ -146,4 +146,5 @@ class Joystick : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(Joystick)
+HCL_EXPORT_BOARD(Joystick,
+                 "Linux joystick (/dev/input/jsN, struct js_event): sensor_msgs/Joy with deadzone, survives replug.")

@@ -174,4 +174,5 @@ class BeaconReceiver : public Board {
 
 }  // namespace hcl_drivers
 
-HCL_EXPORT_BOARD(BeaconReceiver)
+HCL_EXPORT_BOARD(BeaconReceiver,
+                 "Beacon receiver on RS-232 (termios): beacon id + time-of-flight delta per message.")

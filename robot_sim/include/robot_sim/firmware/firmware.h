@@ -18,7 +18,7 @@ class World;  // the simulated world (robot_sim/world), absent for world-less em
 struct FirmwareContext {
   ros::NodeHandle nh;   // global namespace: publish truth under /sim/...
   ros::NodeHandle pnh;  // the emulator's own parameters
-  std::string name;     // e.g. "example_board"
+  std::string name;     // e.g. "ExampleBoard": the board type name of its driver
   World* world = nullptr;
 };
 

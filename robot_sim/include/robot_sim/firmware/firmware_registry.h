@@ -1,6 +1,6 @@
 // Emulators register themselves by type name (the `type` in config) at library load, with
 // this line inside namespace robot_sim after the class:
-//   ROBOT_SIM_REGISTER_FIRMWARE("example_board", ExampleBoardFirmware);
+//   ROBOT_SIM_REGISTER_FIRMWARE("ExampleBoard", ExampleBoardFirmware);
 #pragma once
 
 #include <functional>

@@ -155,6 +155,6 @@ class CameraFirmware : public Firmware {
   ros::Publisher frames_pub_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("camera", CameraFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("Camera", CameraFirmware);
 
 }  // namespace robot_sim

@@ -140,6 +140,6 @@ class EposFirmware : public CanopenFirmware {
   int64_t offset_ = 0, last_ticks_ = 0;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("can_epos", EposFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("Epos", EposFirmware);
 
 }  // namespace robot_sim

@@ -70,6 +70,6 @@ class CanHmiBoardFirmware : public CanopenFirmware {
   uint8_t last_key_ = 255, presses_ = 0;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("can_hmi_board", CanHmiBoardFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("HmiBoard", CanHmiBoardFirmware);
 
 }  // namespace robot_sim

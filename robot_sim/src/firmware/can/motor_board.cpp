@@ -99,6 +99,6 @@ class CanMotorBoardFirmware : public CanopenFirmware {
   double last_command_ = 0.0;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("can_motor_board", CanMotorBoardFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("MotorBoard", CanMotorBoardFirmware);
 
 }  // namespace robot_sim

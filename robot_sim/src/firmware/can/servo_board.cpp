@@ -96,6 +96,6 @@ class CanServoBoardFirmware : public CanopenFirmware {
   std::uniform_int_distribution<int> noise_{-1, 1};
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("can_servo_board", CanServoBoardFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("ServoBoard", CanServoBoardFirmware);
 
 }  // namespace robot_sim

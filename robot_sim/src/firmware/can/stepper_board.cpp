@@ -87,6 +87,6 @@ class CanStepperBoardFirmware : public CanopenFirmware {
   std::array<int32_t, 2> position_{0, 0}, target_{0, 0};
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("can_stepper_board", CanStepperBoardFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("StepperBoard", CanStepperBoardFirmware);
 
 }  // namespace robot_sim

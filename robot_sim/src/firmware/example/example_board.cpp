@@ -122,6 +122,6 @@ class ExampleBoardFirmware : public Firmware {
   ros::Timer truth_timer_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("example_board", ExampleBoardFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("ExampleBoard", ExampleBoardFirmware);
 
 }  // namespace robot_sim

@@ -62,6 +62,6 @@ class CMPS03Firmware : public RegisterChip {
   ros::Publisher truth_pub_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("cmps03", CMPS03Firmware);
+ROBOT_SIM_REGISTER_FIRMWARE("CMPS03", CMPS03Firmware);
 
 }  // namespace robot_sim

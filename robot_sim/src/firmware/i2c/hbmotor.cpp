@@ -153,6 +153,6 @@ class HBMotorFirmware : public RegisterChip {
   ros::Publisher truth_pub_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("hbmotor", HBMotorFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("HBMotor", HBMotorFirmware);
 
 }  // namespace robot_sim

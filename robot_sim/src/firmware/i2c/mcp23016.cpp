@@ -117,6 +117,6 @@ class MCP23016Firmware : public RegisterChip {
   ros::WallTimer truth_timer_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("mcp23016", MCP23016Firmware);
+ROBOT_SIM_REGISTER_FIRMWARE("MCP23016", MCP23016Firmware);
 
 }  // namespace robot_sim

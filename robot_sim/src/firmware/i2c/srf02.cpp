@@ -79,6 +79,6 @@ class SRF02Firmware : public RegisterChip {
   ros::Publisher truth_pub_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("srf02", SRF02Firmware);
+ROBOT_SIM_REGISTER_FIRMWARE("SRF02", SRF02Firmware);
 
 }  // namespace robot_sim

@@ -174,6 +174,6 @@ class JoystickFirmware : public Firmware {
   ros::ServiceServer plug_srv_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("joystick", JoystickFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("Joystick", JoystickFirmware);
 
 }  // namespace robot_sim

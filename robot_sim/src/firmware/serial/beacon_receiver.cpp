@@ -191,6 +191,6 @@ class BeaconReceiverFirmware : public Firmware {
   ros::Publisher sent_pub_, injected_pub_;
 };
 
-ROBOT_SIM_REGISTER_FIRMWARE("beacon_receiver", BeaconReceiverFirmware);
+ROBOT_SIM_REGISTER_FIRMWARE("BeaconReceiver", BeaconReceiverFirmware);
 
 }  // namespace robot_sim

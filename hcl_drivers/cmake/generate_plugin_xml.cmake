@@ -1,0 +1,51 @@
+# cmake -DOUTPUT=<xml> -DMACRO=<HCL_EXPORT_BOARD|HAL_EXPORT_DEVICE> -DPACKAGE=<pkg> -DLIBRARY=<lib...>
+#       -DSOURCES=<a.cpp|b.cpp|...> -P generate_plugin_xml.cmake
+# One <class> per export macro found: name "<pkg>/<Type>", type "<pkg>::<Class>Nodelet". A board's
+# type is its class (HCL_EXPORT_BOARD(Class, "description")); a device names it
+# (HAL_EXPORT_DEVICE(Class, Type, "description")). The description may not contain a double quote.
+cmake_minimum_required(VERSION 3.12)  # IN_LIST
+string(REPLACE "|" ";" sources "${SOURCES}")
+set(classes "")
+set(names "")
+foreach(source IN LISTS sources)
+  file(READ ${source} text)
+  string(REPLACE ";" "@SEMICOLON@" text "${text}")  # a ';' would split the lists below
+  string(REGEX MATCHALL "\n${MACRO}\\([^\"]*\"[^\"]*\"\\)" exports "${text}")
+  foreach(export IN LISTS exports)
+    string(REGEX MATCH "\\(([^\"]*)\"([^\"]*)\"\\)" _ "${export}")
+    set(description "${CMAKE_MATCH_2}")
+    string(REGEX REPLACE "[ \t\r\n]" "" arguments "${CMAKE_MATCH_1}")
+    string(REPLACE "," ";" arguments "${arguments}")
+    list(REMOVE_ITEM arguments "")   # the comma before the description leaves an empty item
+    list(GET arguments 0 class)
+    set(type ${class})               # HCL_EXPORT_BOARD(Class, "...")
+    list(LENGTH arguments count)
+    if(count GREATER 1)              # HAL_EXPORT_DEVICE(Class, Type, "...")
+      list(GET arguments 1 type)
+    endif()
+    if(type IN_LIST names)
+      message(FATAL_ERROR "${source}: ${PACKAGE}/${type} is exported twice")
+    endif()
+    list(APPEND names ${type})
+    # XML entities end in ';', which would split the list: placeholders until the list is joined
+    string(REPLACE "&" "@AMP@" description "${description}")
+    string(REPLACE "<" "@LT@" description "${description}")
+    string(REPLACE ">" "@GT@" description "${description}")
+    list(APPEND classes "${type}|  <class name=\"${PACKAGE}/${type}\" type=\"${PACKAGE}::${class}Nodelet\" base_class_type=\"nodelet::Nodelet\">\n    <description>${description}</description>\n  </class>\n")
+  endforeach()
+endforeach()
+if(NOT classes)
+  message(FATAL_ERROR "no ${MACRO}(...) line found in ${SOURCES}")
+endif()
+list(SORT classes)
+set(xml "<!-- Generated at build time from the ${MACRO} lines in src/ (${PACKAGE}/CMakeLists.txt): do not edit. -->\n<library path=\"${LIBRARY}\">\n")
+foreach(entry IN LISTS classes)
+  string(REGEX REPLACE "^[^|]*\\|" "" entry "${entry}")
+  string(REPLACE "@SEMICOLON@" ";" entry "${entry}")
+  string(REPLACE "@AMP@" "&amp;" entry "${entry}")
+  string(REPLACE "@LT@" "&lt;" entry "${entry}")
+  string(REPLACE "@GT@" "&gt;" entry "${entry}")
+  string(APPEND xml "${entry}")
+endforeach()
+string(APPEND xml "</library>\n")
+file(WRITE ${OUTPUT} "${xml}")
