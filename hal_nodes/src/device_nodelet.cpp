@@ -8,9 +8,9 @@
 namespace hal_nodes {
 
 using diagnostic_msgs::DiagnosticStatus;
-using hcl_drivers::optionalDouble;
-using hcl_drivers::requireDouble;
-using hcl_drivers::requirePositive;
+using robot_core::optionalDouble;
+using robot_core::requireDouble;
+using robot_core::requirePositive;
 
 DeviceNodeletBase::~DeviceNodeletBase() {
   refresh_timer_.stop();
@@ -37,7 +37,8 @@ void DeviceNodeletBase::onInit() {
     requirePositive(pnh, "diagnostic_period", diagnostic_period);
     pnh.setParam("diagnostic_period", diagnostic_period);
     startup_grace_ = optionalDouble(pnh, "startup_grace", 5.0);
-    hcl_drivers::requireInRange(pnh, "startup_grace", startup_grace_, 0.0, 600.0);
+    robot_core::requireInRange(pnh, "startup_grace", startup_grace_, 0.0, 600.0);
+    required_ = robot_core::optionalBool(pnh, "required", true);
     started_ = ros::Time::now();
 
     device_ = createDevice();
@@ -54,7 +55,7 @@ void DeviceNodeletBase::onInit() {
       deactivated_sub_ = getNodeHandle().subscribe("/effectors/deactivated", 1, &DeviceNodeletBase::onDeactivated, this);
     refresh_timer_ = getNodeHandle().createTimer(ros::Duration(1.0 / rate_), &DeviceNodeletBase::onTimer, this);
     NODELET_INFO("device %s refreshing at %.1f Hz%s", getName().c_str(), rate_, effector_ ? " (effector)" : "");
-  } catch (const hcl_drivers::ParameterError& e) {
+  } catch (const robot_core::ParameterError& e) {
     NODELET_FATAL("%s", e.what());
     throw;
   } catch (const std::exception& e) {
@@ -113,6 +114,7 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     std::string condition;
     const uint8_t condition_level = device_->condition(&condition);
     if (condition_level != DiagnosticStatus::OK) stat.mergeSummary(condition_level, condition);
+    stat.add("required", required_ ? "true" : "false");  // readiness waits only for required devices
     stat.addf("configured rate [Hz]", "%.2f", rate_);
     stat.addf("achieved rate [Hz]", "%.2f", achieved);
     stat.addf("mean refresh time [ms]", "%.3f", 1e3 * meter_.meanBusy());

@@ -1,6 +1,6 @@
 // The HAL process: a nodelet manager loading every device configured under its private
-// namespace (hcl_drivers/component_host.h), plus the effector supervisor.
-#include <hcl_drivers/component_host.h>
+// namespace (robot_core/component_host.h), plus the effector supervisor.
+#include <robot_core/component_host.h>
 #include <ros/ros.h>
 
 #include "hal_nodes/effector_supervisor.h"
@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   hal_nodes::EffectorSupervisor supervisor(nh);
-  hcl_drivers::ComponentHost host("hal_nodes", "device");
+  robot_core::ComponentHost host("hal_nodes", "device");
   if (!host.loadFromParameters(pnh)) return 1;
   ros::spin();
   return 0;

@@ -44,7 +44,7 @@ Outcome runGoto(const Case& c, double pos_tol = 0.01, double ang_tol = 2 * kDeg,
           overshoot = std::max(overshoot, ((m.pose().x - c.goal.x) * ux + (m.pose().y - c.goal.y) * uy) / n);
       });
   const Pose2D p = robot.pose();
-  return {std::hypot(p.x - c.goal.x, p.y - c.goal.y), std::fabs(normalizeAngle(p.theta - c.goal.theta)), overshoot, r.time,
+  return {std::hypot(p.x - c.goal.x, p.y - c.goal.y), std::fabs(wrapAngle(p.theta - c.goal.theta)), overshoot, r.time,
           r.limit_violations, r.finished};
 }
 }  // namespace
@@ -167,7 +167,7 @@ TEST(StraightMove, ForwardAndBackwardHoldTheHeading) {
     const Pose2D p = robot.pose();
     const double along = (p.x - start.x) * std::cos(start.theta) + (p.y - start.y) * std::sin(start.theta);
     EXPECT_NEAR(along, d, 0.003) << "distance " << d;
-    EXPECT_NEAR(normalizeAngle(p.theta - start.theta), 0.0, 0.5 * kDeg);
+    EXPECT_NEAR(wrapAngle(p.theta - start.theta), 0.0, 0.5 * kDeg);
   }
 }
 
@@ -182,12 +182,12 @@ TEST(Rotation, TurnsByAnyAngleIncludingMoreThanHalfATurn) {
     const LoopResult r = closedLoop(robot, cfg.limits, kDt, 20.0, [&](const Pose2D& p, const Twist2D& l) { return rot.step(p, l); },
                                     [&]() { return rot.done(); },
                                     [&](const KinematicModel& m) {
-                                      turned += normalizeAngle(m.pose().theta - last);
+                                      turned += wrapAngle(m.pose().theta - last);
                                       last = m.pose().theta;
                                     });
     EXPECT_TRUE(r.finished);
     EXPECT_EQ(r.limit_violations, 0);
-    turned += normalizeAngle(robot.pose().theta - last);
+    turned += wrapAngle(robot.pose().theta - last);
     EXPECT_NEAR(turned, a, 1 * kDeg) << "angle " << a;
     EXPECT_NEAR(std::hypot(robot.pose().x - 1.0, robot.pose().y - 1.0), 0.0, 1e-9);
   }

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     if (!ap.done()) ++failed;
     times.push_back(t);
     pos_err.push_back(std::hypot(robot.pose().x - goal.x, robot.pose().y - goal.y));
-    ang_err.push_back(std::fabs(normalizeAngle(robot.pose().theta - goal.theta)));
+    ang_err.push_back(std::fabs(wrapAngle(robot.pose().theta - goal.theta)));
     overshoot.push_back(over);
   }
 

@@ -6,7 +6,7 @@
 #include <chrono>
 
 #include "hcl_drivers/loop_scheduler.h"
-#include "hcl_drivers/parameters.h"
+#include <robot_core/parameters.h>
 
 namespace hcl_drivers {
 

@@ -2,12 +2,12 @@
 // namespace (see component_host.h). `nodelet load` into it works too.
 #include <ros/ros.h>
 
-#include "hcl_drivers/component_host.h"
+#include <robot_core/component_host.h>
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "hcl");
   ros::NodeHandle pnh("~");
-  hcl_drivers::ComponentHost host("hcl_drivers", "board");
+  robot_core::ComponentHost host("hcl_drivers", "board");
   if (!host.loadFromParameters(pnh)) return 1;
   ros::spin();
   return 0;

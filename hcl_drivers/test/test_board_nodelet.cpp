@@ -127,7 +127,7 @@ TEST(BoardNodelet, AnExceptionInServiceIsAnErrorNotACrash) {
 TEST(BoardNodelet, NonPositiveRateIsRefused) {
   ros::param::set("/probe_bad/rate", 0.0);
   ProbeNodelet n;
-  EXPECT_THROW(n.init("/probe_bad", nodelet::M_string(), nodelet::V_string()), hcl_drivers::ParameterError);
+  EXPECT_THROW(n.init("/probe_bad", nodelet::M_string(), nodelet::V_string()), robot_core::ParameterError);
 }
 
 int main(int argc, char** argv) {

@@ -42,7 +42,7 @@ TEST(Kinematics, StraightAndArcIntegrateExactly) {
   for (int i = 0; i < n; ++i) q = integrateTwist(q, v, w, T / n);
   EXPECT_NEAR(q.x, 1.0, 1e-6);
   EXPECT_NEAR(q.y, 1.0, 1e-6);
-  EXPECT_NEAR(normalizeAngle(q.theta), 0.0, 1e-6);
+  EXPECT_NEAR(wrapAngle(q.theta), 0.0, 1e-6);
   // A quarter circle to the left ends at (r, r) from the start.
   Pose2D h{0.0, 0.0, 0.0};
   for (int i = 0; i < n; ++i) h = integrateTwist(h, v, w, T / 4 / n);

@@ -7,13 +7,11 @@ import threading
 import time
 
 import rospy
+from robot_core.geometry import yaw_of  # noqa: F401 (also for the tests that import it from here)
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from std_srvs.srv import Trigger
 
 
-def yaw_of(q):
-    """The heading [rad] of a geometry_msgs/Quaternion (rotation about z)."""
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
 def wait_for(pred, timeout, step=0.01):

@@ -18,6 +18,7 @@ import time
 import unittest
 
 import rospy
+from robot_core.geometry import yaw_of
 import rostest
 from geometry_msgs.msg import Twist
 from hal_nodes.msg import BeaconRange
@@ -30,8 +31,6 @@ from nav_msgs.msg import Odometry
 from hal_test_common import DeviceDiagnostics, EffectorSwitch, is_active, wait_for
 
 
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def wrap(a):

@@ -28,6 +28,7 @@ import xmlrpc.client
 
 import rosgraph
 import rospy
+from robot_core.geometry import yaw_of
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Pose2D, PoseWithCovarianceStamped, Twist
@@ -49,8 +50,6 @@ KIDNAP_DETECT_LIMIT = 5.0
 KIDNAP_RECOVER_LIMIT = 15.0
 
 
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def wrap(a):

@@ -22,6 +22,7 @@ import unittest
 
 import rosbag
 import rospy
+from robot_core.geometry import yaw_of
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
@@ -52,7 +53,7 @@ def xy(msg):
 
 def xyyaw(msg):
     q = msg.pose.pose.orientation
-    return xy(msg) + (math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z)),)
+    return xy(msg) + (yaw_of(q),)
 
 
 class Track(object):

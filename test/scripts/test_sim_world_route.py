@@ -12,6 +12,7 @@ import time
 import unittest
 
 import rospy
+from robot_core.geometry import yaw_of
 import rostest
 from nav_msgs.msg import Odometry
 from robot_sim.msg import DebugMotorCommand
@@ -26,8 +27,6 @@ POS_TOL = 0.02   # [m] slip noise and the step grid, not model error
 YAW_TOL = 0.03   # [rad]
 
 
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def wrap(a):

@@ -12,6 +12,7 @@ import time
 import unittest
 
 import rospy
+from robot_core.geometry import yaw_of
 import rostest
 from geometry_msgs.msg import Pose2D
 from nav_msgs.msg import Odometry
@@ -24,8 +25,6 @@ from visualization_msgs.msg import MarkerArray
 RTF = 4.0
 
 
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 class Latest(object):
@@ -266,7 +265,7 @@ class SimServicesTest(unittest.TestCase):
         finally:
             os.killpg(p.pid, signal.SIGINT)
             out, _ = p.communicate(timeout=15.0)
-        self.assertIn('emulating board motor_left (hbmotor)', out)
+        self.assertIn('emulating board motor_left (HBMotor)', out)
 
 
 if __name__ == '__main__':

@@ -1,7 +1,7 @@
 // The Device: what every HAL device implements (the original design's init/refresh/halt).
 // A device turns raw board values into physical meaning and offers a hardware-independent
 // interface to the brain. The framework (DeviceNodelet) calls:
-//   init(ctx)   once: read ~parameters (throw hcl_drivers::ParameterError), declare inputs with
+//   init(ctx)   once: read ~parameters (throw robot_core::ParameterError), declare inputs with
 //               addInput(), advertise outputs.
 //   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
 //               inputs, compute, publish. Call setUnavailable("why") when it cannot.
@@ -13,7 +13,7 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
-#include <hcl_drivers/parameters.h>
+#include <robot_core/parameters.h>
 #include <ros/ros.h>
 
 #include <memory>
@@ -25,7 +25,19 @@
 
 namespace hal_nodes {
 
-using hcl_drivers::ParameterError;
+// Devices read their ~parameters with robot_core's strict reader (robot_core/parameters.h).
+using robot_core::ParameterError;
+using robot_core::optionalBool;
+using robot_core::optionalDouble;
+using robot_core::optionalInt;
+using robot_core::optionalString;
+using robot_core::qualified;
+using robot_core::requireDouble;
+using robot_core::requireInRange;
+using robot_core::requireInt;
+using robot_core::requireOneOf;
+using robot_core::requirePositive;
+using robot_core::requireString;
 
 struct DeviceContext {
   ros::NodeHandle nh;   // the HAL process namespace (global topics)

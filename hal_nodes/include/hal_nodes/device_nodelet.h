@@ -2,11 +2,14 @@
 // /effectors/deactivated for effectors, and reports on /diagnostics: rate achieved, the
 // sample age of every input, and why the device is unavailable.
 //
-// Common parameters: ~rate [Hz] (required, > 0), ~diagnostic_period [s] (default 0.25).
+// Common parameters: ~rate [Hz] (required, > 0), ~diagnostic_period [s] (default 0.25),
+// ~startup_grace [s] (WARN, not ERROR, while unavailable since start; default 5), ~required
+// (default true; false: an optional device, e.g. the joystick's, that the brain's readiness does
+// not wait for; published as the `required` value of its status).
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <hcl_drivers/rate_meter.h>
+#include <robot_core/rate_meter.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <std_msgs/Bool.h>
@@ -42,12 +45,13 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   // Start-up: a device whose inputs have not arrived yet within ~startup_grace of its start is
   // "starting" (WARN), not a fault; once it has worked, or after the grace, unavailable is ERROR.
   double startup_grace_ = 5.0;  // [s, ROS time]
+  bool required_ = true;
   ros::Time started_;
   bool ever_available_ = false;
 
   std::mutex refresh_mutex_;  // refresh() and deactivate() never interleave
   mutable std::mutex stats_mutex_;
-  hcl_drivers::RateMeter meter_;
+  robot_core::RateMeter meter_;
   unsigned long refresh_errors_ = 0;
   std::string last_error_;
 };

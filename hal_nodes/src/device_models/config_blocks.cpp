@@ -2,8 +2,8 @@
 
 namespace hal_nodes {
 
-using hcl_drivers::ParameterError;
-using hcl_drivers::qualified;
+using robot_core::ParameterError;
+using robot_core::qualified;
 
 std::vector<std::string> optionalBlockNames(const ros::NodeHandle& pnh, const std::string& name) {
   std::vector<std::string> out;

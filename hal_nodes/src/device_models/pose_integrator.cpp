@@ -5,8 +5,6 @@
 
 namespace hal_nodes {
 
-double normalizeAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
-
 void PoseIntegrator::reset(const Pose2& pose) {
   pose_ = pose;
   cov_.setZero();
@@ -21,7 +19,7 @@ void PoseIntegrator::add(const OdometryIncrement& inc) {
   const double chord = std::abs(half) < 1e-9 ? inc.ds : inc.ds * std::sin(half) / half;
   pose_.x += chord * std::cos(mid);
   pose_.y += chord * std::sin(mid);
-  pose_.theta = normalizeAngle(th + inc.dtheta);
+  pose_.theta = wrapAngle(th + inc.dtheta);
   distance_ += std::abs(inc.ds);
 
   // First-order covariance propagation (mid-heading linearisation).

@@ -33,8 +33,8 @@ void Autopilot::start(const AutopilotGoal& goal, const Pose2D& from) {
   goal_ = goal;
   const double dx = goal.target.x - from.x, dy = goal.target.y - from.y;
   start_distance_ = std::hypot(dx, dy);
-  start_angle_ = std::fabs(normalizeAngle(goal.target.theta - from.theta));
-  const double bearing_error = normalizeAngle(std::atan2(dy, dx) - from.theta);
+  start_angle_ = std::fabs(wrapAngle(goal.target.theta - from.theta));
+  const double bearing_error = wrapAngle(std::atan2(dy, dx) - from.theta);
   direction_ = (goal.allow_reverse && std::fabs(bearing_error) > M_PI / 2.0) ? -1 : 1;
   remaining_ = start_distance_;
   progress_ = 0.0;
@@ -57,14 +57,14 @@ Twist2D Autopilot::step(const Pose2D& pose, const Twist2D& current, const Twist2
   const double along = direction_ * (dx * c + dy * s);  // still to go along the driving direction
   const double lateral = -dx * s + dy * c;
   const double facing = direction_ < 0 ? pose.theta + M_PI : pose.theta;
-  const double bearing_error = d > 1e-9 ? normalizeAngle(std::atan2(dy, dx) - facing) : 0.0;
+  const double bearing_error = d > 1e-9 ? wrapAngle(std::atan2(dy, dx) - facing) : 0.0;
   // Near the target: align the axis with the target either way (a small reverse beats a U-turn).
   double axis_error = bearing_error;
   if (axis_error > M_PI / 2.0) axis_error -= M_PI;
   if (axis_error < -M_PI / 2.0) axis_error += M_PI;
   const bool near = d < config_.near_radius;
   const bool any_heading = !goal_.final_heading || goal_.angle_tolerance >= M_PI;
-  const double final_error = normalizeAngle(goal_.target.theta - pose.theta);
+  const double final_error = wrapAngle(goal_.target.theta - pose.theta);
   remaining_ = d;
   heading_error_ = near ? axis_error : bearing_error;
 

@@ -58,7 +58,7 @@ double Avoidance::borderRange(const Pose2D& sensor, double field_of_view) const 
   double best = std::min(ray(sensor.theta - half), ray(sensor.theta + half));
   const double normals[4] = {0.0, 0.5 * M_PI, M_PI, -0.5 * M_PI};
   for (double n : normals)
-    if (std::fabs(normalizeAngle(n - sensor.theta)) <= half) best = std::min(best, ray(n));
+    if (std::fabs(wrapAngle(n - sensor.theta)) <= half) best = std::min(best, ray(n));
   return best;
 }
 

@@ -101,7 +101,7 @@ Twist2D PathFollower::step(const Pose2D& pose, const Twist2D& current) {
   // Errors in the curve's frame at the reference point (left of the robot / turned left: positive).
   const double e_y = -(pose.x - ref.x) * std::sin(ref.heading) + (pose.y - ref.y) * std::cos(ref.heading);
   const double lateral = -e_y;  // the curve is to the left when the robot is to its right
-  const double e_theta = normalizeAngle(ref.heading - pose.theta);
+  const double e_theta = wrapAngle(ref.heading - pose.theta);
   const double ang_decel = 0.9 * lim.max_angular_accel;
   if (std::fabs(e_theta) > base_.turn_in_place_angle) {  // facing away from the curve: turn onto it first
     const double w = std::min(lim.max_angular_speed * std::fabs(base_.turn_curve.fraction(e_theta)),

@@ -37,7 +37,7 @@ Twist2D StraightMove::step(const Pose2D& pose, const Twist2D& current) {
     return Twist2D();
   }
   const MotionLimits& lim = config_.limits;
-  const double heading_error = normalizeAngle(start_.theta - pose.theta);  // hold the start heading
+  const double heading_error = wrapAngle(start_.theta - pose.theta);  // hold the start heading
   Twist2D cmd;
   cmd.v = sign(remaining_) * curveSpeed(config_.speed_curve, remaining_, max_speed_, 0.9 * lim.max_linear_accel);
   cmd.w = sign(heading_error) *
@@ -61,7 +61,7 @@ void Rotation::start(const Pose2D& from, double angle, double tolerance, double 
 
 Twist2D Rotation::step(const Pose2D& pose, const Twist2D& current) {
   if (done_) return Twist2D();
-  turned_ += normalizeAngle(pose.theta - last_theta_);  // increments are small at the control rate
+  turned_ += wrapAngle(pose.theta - last_theta_);  // increments are small at the control rate
   last_theta_ = pose.theta;
   const double r = remaining();
   if (!settling_ && std::fabs(r) <= 0.5 * tolerance_) settling_ = true;

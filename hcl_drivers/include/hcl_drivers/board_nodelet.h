@@ -25,7 +25,7 @@
 #include <string>
 
 #include "hcl_drivers/board.h"
-#include "hcl_drivers/rate_meter.h"
+#include <robot_core/rate_meter.h>
 
 namespace hcl_drivers {
 
@@ -60,7 +60,7 @@ class BoardNodeletBase : public nodelet::Nodelet {
   unsigned long open_attempts_ = 0;
 
   mutable std::mutex stats_mutex_;  // guards everything below (loop thread vs diagnostics)
-  RateMeter meter_;
+  robot_core::RateMeter meter_;
   ros::Time started_;
   ros::Time last_good_;
   unsigned long exchanges_ = 0;

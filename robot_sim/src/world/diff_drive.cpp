@@ -5,12 +5,6 @@
 
 namespace robot_sim {
 
-double normalizeAngle(double a) {
-  a = std::fmod(a + M_PI, 2.0 * M_PI);
-  if (a < 0) a += 2.0 * M_PI;
-  return a - M_PI;
-}
-
 Pose2D integrateTwist(const Pose2D& p, double v, double w, double dt) {
   Pose2D out;
   const double dth = w * dt;
@@ -24,7 +18,7 @@ Pose2D integrateTwist(const Pose2D& p, double v, double w, double dt) {
     out.x = p.x + r * (std::sin(p.theta + dth) - std::sin(p.theta));
     out.y = p.y - r * (std::cos(p.theta + dth) - std::cos(p.theta));
   }
-  out.theta = normalizeAngle(p.theta + dth);
+  out.theta = wrapAngle(p.theta + dth);
   return out;
 }
 

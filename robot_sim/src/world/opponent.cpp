@@ -44,7 +44,7 @@ void Opponent::step(double dt, const std::vector<Point2D>& ours, Rng& rng) {
     pause_left_ = config_.pause;
     return;
   }
-  const double err = normalizeAngle(std::atan2(dy, dx) - pose_.theta);
+  const double err = wrapAngle(std::atan2(dy, dx) - pose_.theta);
   w_ = std::clamp(err / dt, -config_.turn_rate, config_.turn_rate);
   // Turn on the spot first, then drive (slowing down on arrival).
   if (std::abs(err) < 0.2) v_ = std::min(config_.speed, dist / dt);

@@ -157,7 +157,7 @@ bool SimWorld::switchClosed(const std::string& name) const {
   if (s.type == "manual") return manual_switches_.at(name);
   if (s.type == "bumper") {
     if (!contact_) return false;
-    const double rel = normalizeAngle(contact_angle_ - s.angle);
+    const double rel = wrapAngle(contact_angle_ - s.angle);
     return std::abs(rel) <= 0.5 * s.span;
   }
   if (s.type == "limit") {
@@ -308,7 +308,7 @@ void SimWorld::stepRobot(double dt) {
   }
   contact_ = touch.clearance <= kContactMargin;
   if (contact_)
-    contact_angle_ = normalizeAngle(std::atan2(touch.point.y - pose_.y, touch.point.x - pose_.x) - pose_.theta);
+    contact_angle_ = wrapAngle(std::atan2(touch.point.y - pose_.y, touch.point.x - pose_.x) - pose_.theta);
 }
 
 // A gripper (the 2009 hand) takes the nearest matching element at its mouth when its fingers
@@ -511,7 +511,7 @@ void SimWorld::scheduleMotorCommand(double at, const std::string& motor, double 
 void SimWorld::teleport(const Pose2D& pose) {
   std::lock_guard<std::mutex> lock(mutex_);
   pose_ = pose;
-  pose_.theta = normalizeAngle(pose.theta);
+  pose_.theta = wrapAngle(pose.theta);
   v_ = w_ = 0.0;
   for (auto& kv : motors_) kv.second.state.speed = 0.0;
 }
@@ -565,7 +565,7 @@ bool SimWorld::applyFault(const std::string& kind, const std::string& target, bo
       const double gap = magnitude > 0.0 ? magnitude : 0.1;
       const double d = footprint_.reach(0.0) + opponent_.radius() + gap;
       Pose2D p{pose_.x + d * std::cos(pose_.theta), pose_.y + d * std::sin(pose_.theta),
-               normalizeAngle(pose_.theta + M_PI)};
+               wrapAngle(pose_.theta + M_PI)};
       const double r = opponent_.radius();
       p.x = std::clamp(p.x, r, config_.table.length - r);
       p.y = std::clamp(p.y, r, config_.table.width - r);

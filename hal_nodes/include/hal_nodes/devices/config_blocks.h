@@ -3,7 +3,7 @@
 // ParameterError lines naming the parameter, like every other parameter of the project.
 #pragma once
 
-#include <hcl_drivers/parameters.h>
+#include <robot_core/parameters.h>
 #include <ros/ros.h>
 
 #include <string>

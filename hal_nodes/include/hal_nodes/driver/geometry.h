@@ -2,6 +2,8 @@
 // of a differential-drive base, angle wrapping. REP-103: metres, radians, counter-clockwise.
 #pragma once
 
+#include <robot_core/geometry.h>
+
 #include <cmath>
 
 namespace hal_nodes {
@@ -25,11 +27,8 @@ struct Twist2D {
   double w = 0.0;  // [rad/s]
 };
 
-// Wrap to (-pi, pi].
-inline double normalizeAngle(double a) {
-  a = std::remainder(a, 2.0 * M_PI);
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
-}
+// Angles wrap into (-pi, pi] with robot_core's wrapAngle, as in every layer.
+using robot_core::wrapAngle;
 
 inline double distance(double ax, double ay, double bx, double by) { return std::hypot(bx - ax, by - ay); }
 

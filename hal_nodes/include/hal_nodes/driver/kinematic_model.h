@@ -36,7 +36,7 @@ class KinematicModel {
       pose_.x += r * (std::sin(pose_.theta + dth) - std::sin(pose_.theta));
       pose_.y -= r * (std::cos(pose_.theta + dth) - std::cos(pose_.theta));
     }
-    pose_.theta = normalizeAngle(pose_.theta + dth);
+    pose_.theta = wrapAngle(pose_.theta + dth);
   }
 
   const Pose2D& pose() const { return pose_; }

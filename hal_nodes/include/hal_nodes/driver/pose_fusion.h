@@ -15,12 +15,12 @@ namespace driver {
 
 inline Pose2D compose(const Pose2D& a, const Pose2D& b) {
   const double c = std::cos(a.theta), s = std::sin(a.theta);
-  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, normalizeAngle(a.theta + b.theta)};
+  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrapAngle(a.theta + b.theta)};
 }
 
 inline Pose2D inverse(const Pose2D& p) {
   const double c = std::cos(p.theta), s = std::sin(p.theta);
-  return {-c * p.x - s * p.y, s * p.x - c * p.y, normalizeAngle(-p.theta)};
+  return {-c * p.x - s * p.y, s * p.x - c * p.y, wrapAngle(-p.theta)};
 }
 
 class PoseFusion {
@@ -74,7 +74,7 @@ class PoseFusion {
         const auto &a = odom_[i - 1], &b = odom_[i];
         const double k = b.t > a.t ? (t - a.t) / (b.t - a.t) : 1.0;
         *out = {a.pose.x + k * (b.pose.x - a.pose.x), a.pose.y + k * (b.pose.y - a.pose.y),
-                normalizeAngle(a.pose.theta + k * normalizeAngle(b.pose.theta - a.pose.theta))};
+                wrapAngle(a.pose.theta + k * wrapAngle(b.pose.theta - a.pose.theta))};
         return true;
       }
     }

@@ -2,6 +2,8 @@
 // theta counter-clockwise from x) and the angle helpers every MCL piece needs.
 #pragma once
 
+#include <robot_core/geometry.h>
+
 #include <cmath>
 
 namespace hal_nodes::mcl {
@@ -12,13 +14,7 @@ struct Pose2 {
   double theta = 0.0;
 };
 
-// Wrap to [-pi, pi). Cheap for the small overshoots the filter produces.
-inline double wrapAngle(double a) {
-  if (a >= -M_PI && a < M_PI) return a;
-  a = std::fmod(a + M_PI, 2.0 * M_PI);
-  if (a < 0) a += 2.0 * M_PI;
-  return a - M_PI;
-}
+using robot_core::wrapAngle;  // (-pi, pi], cheap for the small overshoots the filter produces
 
 // `a` composed with the increment `d` expressed in a's own frame.
 inline Pose2 compose(const Pose2& a, const Pose2& d) {

@@ -35,7 +35,7 @@ namespace hal_nodes {
 class BeaconsDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     pnh_ = ctx.pnh;
     BeaconEquation eq;
     eq.temperature = optionalDouble(ctx.pnh, "temperature", 20.0);

@@ -25,7 +25,7 @@ namespace hal_nodes {
 class BumpersDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
     requirePositive(ctx.pnh, "max_input_age", max_input_age_);
     for (const auto& name : requireBlockNames(ctx.pnh, "contacts")) {

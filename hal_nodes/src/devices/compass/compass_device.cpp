@@ -24,7 +24,7 @@ namespace hal_nodes {
 class CompassDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     north_yaw_ = requireDouble(ctx.pnh, "north_yaw");
     requireInRange(ctx.pnh, "north_yaw", north_yaw_, -2 * M_PI, 2 * M_PI);
     clockwise_ = optionalBool(ctx.pnh, "mounting_clockwise", true);
@@ -55,7 +55,7 @@ class CompassDevice : public Device {
     h.header.stamp = b->header.stamp;
     h.header.frame_id = frame_id_;
     const double rad = b->degrees * M_PI / 180.0;
-    h.yaw = normalizeAngle(clockwise_ ? north_yaw_ - rad : north_yaw_ + rad);
+    h.yaw = wrapAngle(clockwise_ ? north_yaw_ - rad : north_yaw_ + rad);
     h.variance = variance_;
     pub_.publish(h);
   }

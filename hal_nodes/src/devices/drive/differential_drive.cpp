@@ -31,7 +31,7 @@ namespace hal_nodes {
 class DifferentialDrive : public Effector {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     track_width_ = requireDouble(ctx.pnh, "track_width");
     requirePositive(ctx.pnh, "track_width", track_width_);
     max_wheel_speed_ = requireDouble(ctx.pnh, "max_wheel_speed");

@@ -69,13 +69,6 @@
 namespace hal_nodes {
 
 using namespace driver;
-using hcl_drivers::optionalBool;
-using hcl_drivers::optionalDouble;
-using hcl_drivers::optionalInt;
-using hcl_drivers::optionalString;
-using hcl_drivers::qualified;
-using hcl_drivers::requireDouble;
-using hcl_drivers::requirePositive;
 
 namespace {
 
@@ -93,9 +86,7 @@ enum Code : uint8_t {
   TIMEOUT = 9,
 };
 
-double yawOf(const geometry_msgs::Quaternion& q) {
-  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
-}
+using robot_core::yawOf;
 
 Pose2D poseOf(const geometry_msgs::Pose& p) { return {p.position.x, p.position.y, yawOf(p.orientation)}; }
 
@@ -122,9 +113,9 @@ class Driver : public Effector {
     ap.speed_curve = readCurve(ros::NodeHandle(p, "speed_curve"));
     ap.turn_curve = readCurve(ros::NodeHandle(p, "turn_curve"));
     ap.turn_in_place_angle = optionalDouble(p, "turn_in_place_angle", 0.6);
-    hcl_drivers::requireInRange(p, "turn_in_place_angle", ap.turn_in_place_angle, 0.05, M_PI);
+    requireInRange(p, "turn_in_place_angle", ap.turn_in_place_angle, 0.05, M_PI);
     ap.near_radius = optionalDouble(p, "near_radius", 0.04);
-    hcl_drivers::requireInRange(p, "near_radius", ap.near_radius, 0.0, 0.5);
+    requireInRange(p, "near_radius", ap.near_radius, 0.0, 0.5);
     check(p, "", ap.invalidReason());
 
     PathFollowerConfig pf;
@@ -139,7 +130,7 @@ class Driver : public Effector {
     AvoidanceConfig av;
     ros::NodeHandle pa(p, "avoidance");
     const std::string mode = optionalString(pa, "mode", "stop");
-    hcl_drivers::requireOneOf(pa, "mode", mode, {"off", "stop", "detour"});
+    requireOneOf(pa, "mode", mode, {"off", "stop", "detour"});
     AvoidanceConfig::parseMode(mode, &av.mode);
     av.robot_radius = optionalDouble(pa, "robot_radius", av.robot_radius);
     av.opponent_radius = optionalDouble(pa, "opponent_radius", av.opponent_radius);
@@ -174,12 +165,12 @@ class Driver : public Effector {
     max_odom_age_ = optionalDouble(p, "max_odom_age", 0.2);
     requirePositive(p, "max_odom_age", max_odom_age_);
     stall_timeout_ = optionalDouble(p, "stall_timeout", 1.0);
-    hcl_drivers::requireInRange(p, "stall_timeout", stall_timeout_, 0.0, 60.0);
+    requireInRange(p, "stall_timeout", stall_timeout_, 0.0, 60.0);
     max_hold_ = optionalDouble(p, "max_hold", 5.0);
-    hcl_drivers::requireInRange(p, "max_hold", max_hold_, 0.0, 60.0);
+    requireInRange(p, "max_hold", max_hold_, 0.0, 60.0);
     p.param("predict_pose", predict_pose_, true);
     min_probability_ = optionalDouble(p, "min_probability", 0.5);
-    hcl_drivers::requireInRange(p, "min_probability", min_probability_, 0.0, 1.0);
+    requireInRange(p, "min_probability", min_probability_, 0.0, 1.0);
     motor_status_ = optionalString(p, "motor_status", "hal/drive:");
     // diagnostic_updater names a status "<node name without its leading slash>: <task>".
     if (!motor_status_.empty() && motor_status_[0] == '/') motor_status_.erase(0, 1);
@@ -301,7 +292,7 @@ class Driver : public Effector {
   static ControlCurve readCurve(const ros::NodeHandle& pnh) {
     ControlCurve c{requireDouble(pnh, "saturation"), requireDouble(pnh, "exponent")};
     requirePositive(pnh, "saturation", c.saturation);
-    hcl_drivers::requireInRange(pnh, "exponent", c.exponent, 0.2, 4.0);
+    requireInRange(pnh, "exponent", c.exponent, 0.2, 4.0);
     return c;
   }
 
@@ -370,7 +361,7 @@ class Driver : public Effector {
     const double mid = pose->theta + 0.5 * w * dt;
     pose->x += v * dt * std::cos(mid);
     pose->y += v * dt * std::sin(mid);
-    pose->theta = normalizeAngle(pose->theta + w * dt);
+    pose->theta = wrapAngle(pose->theta + w * dt);
   }
 
   bool odomPose(Pose2D* pose) {
@@ -960,7 +951,7 @@ class Driver : public Effector {
         GotoResult r;
         if (has_pose) {
           r.position_error = std::hypot(goal_.target.x - pose.x, goal_.target.y - pose.y);
-          r.angle_error = normalizeAngle(goal_.target.theta - pose.theta);
+          r.angle_error = wrapAngle(goal_.target.theta - pose.theta);
         }
         r.avoidance = avoidanceSummary();
         r.detours = detours_;

@@ -25,14 +25,12 @@ namespace hal_nodes {
 class ExampleDevice : public Effector {
  public:
   void init(DeviceContext& ctx) override {
-    using hcl_drivers::optionalDouble;
-    using hcl_drivers::optionalString;
     max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    hcl_drivers::requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
     max_command_age_ = optionalDouble(ctx.pnh, "max_command_age", 0.5);
-    hcl_drivers::requirePositive(ctx.pnh, "max_command_age", max_command_age_);
+    requirePositive(ctx.pnh, "max_command_age", max_command_age_);
     warn_above_ = optionalDouble(ctx.pnh, "warn_above", 1.0);
-    hcl_drivers::requireInRange(ctx.pnh, "warn_above", warn_above_, 0.0, 1.0);
+    requireInRange(ctx.pnh, "warn_above", warn_above_, 0.0, 1.0);
     board_ = addInput<hcl_drivers::ExampleBoardState>(
         ctx.nh, optionalString(ctx.pnh, "board_state", "/hcl/example_board/state"), "board");
     brightness_ = addInput<std_msgs::Float64>(ctx.pnh, "lamp", "lamp command");

@@ -33,7 +33,7 @@ namespace hal_nodes {
 class HandEffector : public Effector {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     for (const auto& name : requireBlockNames(ctx.pnh, "fingers")) {
       ros::NodeHandle p(ctx.pnh, "fingers/" + name);
       Finger f;

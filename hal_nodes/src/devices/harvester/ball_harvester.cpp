@@ -25,7 +25,7 @@ namespace hal_nodes {
 class BallHarvester : public Effector {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     motor_ = optionalString(ctx.pnh, "motor", "roller");
     max_value_ = requireInt(ctx.pnh, "max_value");
     if (max_value_ == 0) throw ParameterError("parameter " + qualified(ctx.pnh, "max_value") + " = 0: must be non-zero");

@@ -33,7 +33,6 @@ namespace hal_nodes {
 class HumanInterface : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
     max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
     requirePositive(ctx.pnh, "max_input_age", max_input_age_);
     cord_ = ContactSpec::read(ctx.pnh, "start_cord");

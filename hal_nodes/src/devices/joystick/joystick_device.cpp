@@ -30,7 +30,6 @@ namespace hal_nodes {
 class JoystickDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
     axes_ = optionalIntMap(ctx.pnh, "axes");
     buttons_ = optionalIntMap(ctx.pnh, "buttons");
     if (axes_.empty() && buttons_.empty())

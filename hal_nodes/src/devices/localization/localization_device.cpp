@@ -70,13 +70,6 @@ namespace hal_nodes {
 
 namespace {
 
-using hcl_drivers::optionalBool;
-using hcl_drivers::optionalDouble;
-using hcl_drivers::optionalInt;
-using hcl_drivers::optionalString;
-using hcl_drivers::qualified;
-using hcl_drivers::requireInRange;
-using hcl_drivers::requirePositive;
 using mcl::Pose2;
 
 struct Payload {
@@ -138,8 +131,8 @@ class LocalizationDevice : public Device {
     nh_ = ctx.nh;
     // ---- the table (one source of truth: /table) ----
     ros::NodeHandle table_nh("/table");
-    const double length = hcl_drivers::requireDouble(table_nh, "length");
-    const double width = hcl_drivers::requireDouble(table_nh, "width");
+    const double length = requireDouble(table_nh, "length");
+    const double width = requireDouble(table_nh, "width");
     requireInRange(table_nh, "length", length, 0.1, 100.0);
     requireInRange(table_nh, "width", width, 0.1, 100.0);
     const double radius = optionalDouble(pnh, "robot_radius", 0.0);
@@ -184,7 +177,7 @@ class LocalizationDevice : public Device {
     fc.kld.bin_theta = optionalDouble(pnh, "kld_bin_theta", fc.kld.bin_theta);
     requirePositive(pnh, "kld_bin_theta", fc.kld.bin_theta);
     const std::string resampling = optionalString(pnh, "resampling", "systematic");
-    hcl_drivers::requireOneOf(pnh, "resampling", resampling, {"multinomial", "residual", "stratified", "systematic"});
+    requireOneOf(pnh, "resampling", resampling, {"multinomial", "residual", "stratified", "systematic"});
     mcl::parseResampling(resampling, &fc.resampling);
     fc.ess_threshold = optionalDouble(pnh, "ess_threshold", fc.ess_threshold);
     requireInRange(pnh, "ess_threshold", fc.ess_threshold, 0.0, 1.0);

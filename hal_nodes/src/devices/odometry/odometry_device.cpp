@@ -57,7 +57,7 @@ void fillPose(const PoseIntegrator& p, nav_msgs::Odometry& m) {
 class OdometryDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
+    using namespace hcl_drivers;  // the boards' messages
     odom_frame_ = optionalString(ctx.pnh, "odom_frame", "odom");
     base_frame_ = optionalString(ctx.pnh, "base_frame", "base_link");
     publish_tf_ = optionalBool(ctx.pnh, "publish_tf", true);
@@ -198,9 +198,9 @@ class OdometryDevice : public Device {
   };
 
   static double nonZero(const ros::NodeHandle& p, const std::string& name) {
-    const double v = hcl_drivers::requireDouble(p, name);
+    const double v = requireDouble(p, name);
     if (v == 0.0 || !std::isfinite(v))
-      throw ParameterError("parameter " + hcl_drivers::qualified(p, name) + " = 0: must be a non-zero number");
+      throw ParameterError("parameter " + qualified(p, name) + " = 0: must be a non-zero number");
     return v;
   }
 

@@ -25,7 +25,6 @@ namespace hal_nodes {
 class RangersDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
     max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
     requirePositive(ctx.pnh, "max_input_age", max_input_age_);
     const RangeFilterConfig defaults = readFilter(ctx.pnh, RangeFilterConfig());
@@ -88,7 +87,6 @@ class RangersDevice : public Device {
   };
 
   static RangeFilterConfig readFilter(const ros::NodeHandle& p, const RangeFilterConfig& d) {
-    using namespace hcl_drivers;
     RangeFilterConfig c;
     const int window = optionalInt(p, "window", static_cast<int>(d.window));
     if (window < 1 || window % 2 == 0 || window > 51)

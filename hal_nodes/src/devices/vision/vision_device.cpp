@@ -40,7 +40,6 @@ namespace hal_nodes {
 class VisionDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;
     map_frame_ = optionalString(ctx.pnh, "map_frame", "map");
     camera_frame_ = optionalString(ctx.pnh, "camera_frame", "");
     hfov_ = optionalDouble(ctx.pnh, "horizontal_fov", 1.0);

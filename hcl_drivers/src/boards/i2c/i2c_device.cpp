@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "hcl_drivers/parameters.h"
+#include "hcl_drivers/board.h"  // robot_core's parameter reader, as every board reads it
 
 namespace hcl_drivers {
 

@@ -1,6 +1,8 @@
 // Differential-drive kinematics and the wheel slip model.
 #pragma once
 
+#include <robot_core/geometry.h>
+
 #include "robot_sim/world/config.h"
 #include "robot_sim/world/random.h"
 
@@ -18,6 +20,6 @@ void wheelsToTwist(double v_left, double v_right, double wheel_base, double& v, 
 // while the wheel turns, plus `extra` (an injected hard slip), clamped to +-max.
 double slipFraction(const SlipConfig& config, double surface_speed, double surface_accel, double extra, Rng& rng);
 
-double normalizeAngle(double a);
+using robot_core::wrapAngle;
 
 }  // namespace robot_sim

@@ -9,6 +9,8 @@ Without a pose (no tf yet) nothing is explained away: an unknown echo still stop
 """
 import math
 
+from robot_core.geometry import yaw_of
+
 
 def ray_to_border(x, y, heading, length, width):
     """Distance from (x, y) inside the [0, length] x [0, width] table to its border along heading."""
@@ -84,7 +86,7 @@ class BorderEcho(object):
         if t is None:
             return False
         q = t.transform.rotation
-        heading = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        heading = yaw_of(q)
         d = border_distance(t.transform.translation.x, t.transform.translation.y, heading, msg.field_of_view,
                             self.length, self.width)
         return msg.range >= d - self.tolerance

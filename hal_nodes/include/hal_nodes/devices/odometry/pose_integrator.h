@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <robot_core/geometry.h>
 
 namespace hal_nodes {
 
@@ -38,6 +39,6 @@ class PoseIntegrator {
   double distance_ = 0.0;
 };
 
-double normalizeAngle(double a);
+using robot_core::wrapAngle;
 
 }  // namespace hal_nodes

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace hcl_drivers {
+namespace robot_core {
 
 // Thrown for bad configuration. what() is the one line the user sees.
 class ParameterError : public std::runtime_error {
@@ -36,4 +36,4 @@ void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std
 // The fully resolved parameter name, for messages.
 std::string qualified(const ros::NodeHandle& pnh, const std::string& name);
 
-}  // namespace hcl_drivers
+}  // namespace robot_core

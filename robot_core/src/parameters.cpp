@@ -1,8 +1,8 @@
-#include "hcl_drivers/parameters.h"
+#include "robot_core/parameters.h"
 
 #include <sstream>
 
-namespace hcl_drivers {
+namespace robot_core {
 
 std::string qualified(const ros::NodeHandle& pnh, const std::string& name) { return pnh.resolveName(name); }
 
@@ -103,4 +103,4 @@ void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std
   throw ParameterError(s.str());
 }
 
-}  // namespace hcl_drivers
+}  // namespace robot_core

@@ -1,9 +1,9 @@
-#include "hcl_drivers/rate_meter.h"
+#include "robot_core/rate_meter.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace hcl_drivers {
+namespace robot_core {
 
 RateMeter::RateMeter(double window_s) : window_(window_s) {}
 
@@ -43,4 +43,4 @@ double RateMeter::maxBusy() const {
   return worst;
 }
 
-}  // namespace hcl_drivers
+}  // namespace robot_core

@@ -1,4 +1,4 @@
-#include "hcl_drivers/component_host.h"
+#include "robot_core/component_host.h"
 
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_loader.hpp>
@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <sstream>
 
-namespace hcl_drivers {
+namespace robot_core {
 
 ComponentHost::ComponentHost(std::string package, std::string kind)
     : package_(std::move(package)), kind_(std::move(kind)), loader_(std::make_unique<nodelet::Loader>(true)) {}
@@ -84,4 +84,4 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
   return true;
 }
 
-}  // namespace hcl_drivers
+}  // namespace robot_core

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace hcl_drivers {
+namespace robot_core {
 
 class ComponentHost {
  public:
@@ -35,4 +35,4 @@ class ComponentHost {
   std::vector<std::string> loaded_;
 };
 
-}  // namespace hcl_drivers
+}  // namespace robot_core

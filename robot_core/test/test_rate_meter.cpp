@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "hcl_drivers/rate_meter.h"
+#include "robot_core/rate_meter.h"
 
-using hcl_drivers::RateMeter;
+using robot_core::RateMeter;
 
 TEST(RateMeter, SteadyLoopGivesItsRate) {
   RateMeter m(1.0);

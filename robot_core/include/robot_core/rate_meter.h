@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <deque>
 
-namespace hcl_drivers {
+namespace robot_core {
 
 class RateMeter {
  public:
@@ -32,4 +32,4 @@ class RateMeter {
   std::deque<Tick> ticks_;
 };
 
-}  // namespace hcl_drivers
+}  // namespace robot_core
