@@ -40,7 +40,7 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-roslaunch python3-rosnode \
   python3-rostopic python3-rosservice python3-rosparam rosout \
   ros-robot-state-publisher liburdf-dev libcv-bridge-dev python3-cv-bridge libimage-transport-dev libopencv-dev \
-  libmrpt-dev libmrpt-ros1bridge-dev libeigen3-dev \
+  libmrpt-dev libmrpt-ros1bridge-dev libeigen3-dev libyaml-cpp-dev \
   libgtest-dev libgmock-dev googletest python3-nose python3-numpy \
   can-utils iproute2 socat
 # product: rviz and its headless test (Xvfb + screenshot), the match report's plots

@@ -8,7 +8,7 @@ rm -rf build/test_results
 echo "== catkin_lint"
 lint_out=$(catkin_lint -W1 src 2>&1); lint_rc=$?
 echo "$lint_out" | tail -n 20
-lint_problems=$(echo "$lint_out" | grep -cE 'error:|warning:' || true)
+lint_problems=$(echo "$lint_out" | grep -cE 'error:|warning:|cannot lint' || true)  # a package it could not read is a problem too
 
 echo "== unit tests and rostests"
 # Test binaries build in parallel; the tests themselves run one at a time, so rate and

@@ -1,4 +1,4 @@
-// Shared by the driver's gtests: a robot config like the 2009 robot's, Logion's, and a closed loop of a
+// Shared by the driver's gtests: the 2009 robot's and Logion's driver config, and a closed loop of a
 // controller, the VelocityLimiter and the KinematicModel that records what a test asserts on.
 #pragma once
 
@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
 
 #include "hal_nodes/driver/autopilot.h"
+#include "hal_nodes/driver/driver_config.h"
 #include "hal_nodes/driver/kinematic_model.h"
 #include "hal_nodes/driver/motion_limits.h"
 
@@ -16,36 +18,17 @@ namespace hal_nodes {
 namespace driver {
 namespace test {
 
-inline AutopilotConfig robotConfig() {
-  AutopilotConfig c;
-  c.speed_curve = {0.3, 0.7};
-  c.turn_curve = {0.6, 0.8};
-  c.limits.max_linear_speed = 0.5;
-  c.limits.max_angular_speed = 3.0;
-  c.limits.max_linear_accel = 1.0;
-  c.limits.max_angular_accel = 6.0;
-  c.limits.max_wheel_speed = 0.6;
-  c.limits.track_width = 0.3;
-  c.turn_in_place_angle = 0.6;
-  c.near_radius = 0.04;
-  return c;
+// The robots' own driver blocks (config/<robot>.yaml, hal: driver:), read as the device reads them.
+inline AutopilotConfig configOf(const std::string& robot) {
+  return readAutopilotConfig(robot_core::Params::fromYamlFile(std::string(ROBOT_CONFIG_DIR) + "/" + robot + ".yaml",
+                                                               "hal/driver"));
 }
 
-// Logion's (config/logion.yaml, hal/driver): slower, with more actuation lag than the 2009 robot.
-inline AutopilotConfig logionConfig() {
-  AutopilotConfig c;
-  c.speed_curve = {0.35, 0.7};
-  c.turn_curve = {0.5, 0.8};
-  c.limits.max_linear_speed = 0.4;
-  c.limits.max_angular_speed = 2.5;
-  c.limits.max_linear_accel = 0.8;
-  c.limits.max_angular_accel = 5.0;
-  c.limits.max_wheel_speed = 0.65;
-  c.limits.track_width = 0.28;
-  c.turn_in_place_angle = 0.6;
-  c.near_radius = 0.04;
-  return c;
-}
+// The 2009 robot's.
+inline AutopilotConfig robotConfig() { return configOf("eurobot2009"); }
+
+// Logion's: slower, with more actuation lag than the 2009 robot.
+inline AutopilotConfig logionConfig() { return configOf("logion"); }
 
 // Every command the limiter let through, checked against the limits as it is sent.
 struct LimitWatch {

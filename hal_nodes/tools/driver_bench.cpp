@@ -1,9 +1,10 @@
 // Driver benchmark on the kinematic model (driver/kinematic_model.h: one control period of
 // command delay, 20 ms motor lag): 20 fixed goto goals chained across the table with the
-// product's Autopilot and limiter at 50 Hz and the 2009 robot's curves and limits, then 200
+// product's Autopilot and limiter at 50 Hz and a robot's curves and limits (its config's `hal: driver:`
+// block, read by the device's own reader; default config/eurobot2009.yaml), then 200
 // cancels at random points of drives. Prints mean time to goal, final position/heading error,
 // overshoot, and the cancel-to-stopped time (p50/p99/max).
-//   driver_bench [--rate 50] [--delay 1] [--lag 0.02]
+//   driver_bench [--rate 50] [--delay 1] [--lag 0.02] [--config config/ROBOT.yaml]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,24 +14,12 @@
 #include <vector>
 
 #include "hal_nodes/driver/autopilot.h"
+#include "hal_nodes/driver/driver_config.h"
 #include "hal_nodes/driver/kinematic_model.h"
 
 using namespace hal_nodes::driver;
 
 namespace {
-AutopilotConfig eurobot2009() {  // config/eurobot2009.yaml hal/driver
-  AutopilotConfig c;
-  c.speed_curve = {0.3, 0.7};
-  c.turn_curve = {0.6, 0.8};
-  c.limits.max_linear_speed = 0.5;
-  c.limits.max_angular_speed = 3.0;
-  c.limits.max_linear_accel = 1.0;
-  c.limits.max_angular_accel = 6.0;
-  c.limits.max_wheel_speed = 0.6;
-  c.limits.track_width = 0.3;
-  return c;
-}
-
 const Pose2D kGoals[20] = {
     {2.60, 1.70, 0.00}, {0.40, 1.70, M_PI}, {0.40, 0.40, -M_PI / 2}, {2.60, 0.40, 0.0}, {1.50, 1.05, M_PI / 2},
     {1.50, 1.60, M_PI / 2}, {1.00, 1.00, 2.0}, {1.02, 1.01, 2.0}, {2.20, 0.70, -0.7}, {0.70, 1.40, 2.5},
@@ -46,13 +35,23 @@ double percentile(std::vector<double> v, double p) {
 int main(int argc, char** argv) {
   double rate = 50.0, lag = 0.02;
   int delay = 1;
+  std::string config = std::string(ROBOT_CONFIG_DIR) + "/eurobot2009.yaml";
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--rate")) rate = std::atof(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--delay")) delay = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--lag")) lag = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--config")) config = argv[i + 1];
   }
   const double dt = 1.0 / rate;
-  const AutopilotConfig cfg = eurobot2009();
+  AutopilotConfig cfg;
+  try {
+    cfg = readAutopilotConfig(robot_core::Params::fromYamlFile(config, "hal/driver"));
+  } catch (const robot_core::ParameterError& e) {
+    std::fprintf(stderr, "driver_bench: %s\n", e.what());
+    return 2;
+  }
+  std::printf("config %s: max_wheel_speed %.2f m/s, track_width %.3f m\n", config.c_str(), cfg.limits.max_wheel_speed,
+              cfg.limits.track_width);
   KinematicModel robot({0.25, 0.25, 0.0}, delay, lag);
   std::vector<double> times, pos_err, ang_err, overshoot;
   int failed = 0;

@@ -1,106 +1,135 @@
 #include "robot_core/parameters.h"
 
+#include <cmath>
 #include <sstream>
 
+#include "parameter_rules.h"
+
 namespace robot_core {
+
+namespace rules {
+
+namespace {
+[[noreturn]] void wrongType(const std::string& name, const char* expected) {
+  throw ParameterError("parameter " + name + " has the wrong type: expected " + expected);
+}
+}  // namespace
+
+double toNumber(XmlRpc::XmlRpcValue& v, const std::string& name) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(v);
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(v);
+  wrongType(name, "a number");
+}
+
+int toInt(XmlRpc::XmlRpcValue& v, const std::string& name) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(v);
+  // roscpp's getParam(int) takes 2.0 too (it rounds any double): a whole number passes, 2.5 is refused
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    const double d = static_cast<double>(v);
+    if (std::floor(d) == d && std::abs(d) < 2147483648.0) return static_cast<int>(d);
+  }
+  wrongType(name, "an integer");
+}
+
+bool toBool(XmlRpc::XmlRpcValue& v, const std::string& name) {
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) wrongType(name, "true or false");
+  return static_cast<bool>(v);
+}
+
+std::string toString(XmlRpc::XmlRpcValue& v, const std::string& name) {
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) wrongType(name, "a string");
+  return static_cast<std::string>(v);
+}
+
+void missing(const std::string& name, const char* what) {
+  throw ParameterError("missing required parameter " + name + " (" + what + ")");
+}
+
+void positive(const std::string& name, double value) {
+  if (!(value > 0.0)) {
+    std::ostringstream s;
+    s << "parameter " << name << " = " << value << ": must be > 0";
+    throw ParameterError(s.str());
+  }
+}
+
+void inRange(const std::string& name, double value, double lo, double hi) {
+  if (!(value >= lo && value <= hi)) {
+    std::ostringstream s;
+    s << "parameter " << name << " = " << value << ": must be in [" << lo << ", " << hi << "]";
+    throw ParameterError(s.str());
+  }
+}
+
+void oneOf(const std::string& name, const std::string& value, const std::vector<std::string>& allowed) {
+  for (const auto& a : allowed)
+    if (a == value) return;
+  std::ostringstream s;
+  s << "parameter " << name << " = '" << value << "': allowed values are";
+  for (std::size_t i = 0; i < allowed.size(); ++i) s << (i ? ", " : " ") << allowed[i];
+  throw ParameterError(s.str());
+}
+
+}  // namespace rules
 
 std::string qualified(const ros::NodeHandle& pnh, const std::string& name) { return pnh.resolveName(name); }
 
 namespace {
-
-template <class T>
-bool readTyped(const ros::NodeHandle& pnh, const std::string& name, T& out, const char* type_name) {
-  if (!pnh.hasParam(name)) return false;
-  if (!pnh.getParam(name, out))
-    throw ParameterError("parameter " + qualified(pnh, name) + " has the wrong type: expected " + type_name);
-  return true;
+// The value of `name`, or false when it is not set.
+bool fetch(const ros::NodeHandle& pnh, const std::string& name, XmlRpc::XmlRpcValue* v) {
+  return pnh.hasParam(name) && pnh.getParam(name, *v);
 }
-
-// Integers are accepted where a double is asked for (YAML `rate: 50`).
-bool readNumber(const ros::NodeHandle& pnh, const std::string& name, double& out) {
-  if (!pnh.hasParam(name)) return false;
-  XmlRpc::XmlRpcValue v;
-  pnh.getParam(name, v);
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
-    out = static_cast<double>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    out = static_cast<int>(v);
-  } else {
-    throw ParameterError("parameter " + qualified(pnh, name) + " has the wrong type: expected a number");
-  }
-  return true;
-}
-
 }  // namespace
 
 double requireDouble(const ros::NodeHandle& pnh, const std::string& name) {
-  double v = 0.0;
-  if (!readNumber(pnh, name, v)) throw ParameterError("missing required parameter " + qualified(pnh, name) + " (a number)");
-  return v;
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(pnh, name, &v)) rules::missing(qualified(pnh, name), "a number");
+  return rules::toNumber(v, qualified(pnh, name));
 }
 
 int requireInt(const ros::NodeHandle& pnh, const std::string& name) {
-  int v = 0;
-  if (!readTyped(pnh, name, v, "an integer"))
-    throw ParameterError("missing required parameter " + qualified(pnh, name) + " (an integer)");
-  return v;
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(pnh, name, &v)) rules::missing(qualified(pnh, name), "an integer");
+  return rules::toInt(v, qualified(pnh, name));
 }
 
 std::string requireString(const ros::NodeHandle& pnh, const std::string& name) {
-  std::string v;
-  if (!readTyped(pnh, name, v, "a string"))
-    throw ParameterError("missing required parameter " + qualified(pnh, name) + " (a string)");
-  return v;
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(pnh, name, &v)) rules::missing(qualified(pnh, name), "a string");
+  return rules::toString(v, qualified(pnh, name));
 }
 
 double optionalDouble(const ros::NodeHandle& pnh, const std::string& name, double fallback) {
-  double v = fallback;
-  readNumber(pnh, name, v);
-  return v;
+  XmlRpc::XmlRpcValue v;
+  return fetch(pnh, name, &v) ? rules::toNumber(v, qualified(pnh, name)) : fallback;
 }
 
 int optionalInt(const ros::NodeHandle& pnh, const std::string& name, int fallback) {
-  int v = fallback;
-  readTyped(pnh, name, v, "an integer");
-  return v;
+  XmlRpc::XmlRpcValue v;
+  return fetch(pnh, name, &v) ? rules::toInt(v, qualified(pnh, name)) : fallback;
 }
 
 bool optionalBool(const ros::NodeHandle& pnh, const std::string& name, bool fallback) {
-  bool v = fallback;
-  readTyped(pnh, name, v, "true or false");
-  return v;
+  XmlRpc::XmlRpcValue v;
+  return fetch(pnh, name, &v) ? rules::toBool(v, qualified(pnh, name)) : fallback;
 }
 
 std::string optionalString(const ros::NodeHandle& pnh, const std::string& name, const std::string& fallback) {
-  std::string v = fallback;
-  readTyped(pnh, name, v, "a string");
-  return v;
+  XmlRpc::XmlRpcValue v;
+  return fetch(pnh, name, &v) ? rules::toString(v, qualified(pnh, name)) : fallback;
 }
 
 void requirePositive(const ros::NodeHandle& pnh, const std::string& name, double value) {
-  if (!(value > 0.0)) {
-    std::ostringstream s;
-    s << "parameter " << qualified(pnh, name) << " = " << value << ": must be > 0";
-    throw ParameterError(s.str());
-  }
+  rules::positive(qualified(pnh, name), value);
 }
 
 void requireInRange(const ros::NodeHandle& pnh, const std::string& name, double value, double lo, double hi) {
-  if (!(value >= lo && value <= hi)) {
-    std::ostringstream s;
-    s << "parameter " << qualified(pnh, name) << " = " << value << ": must be in [" << lo << ", " << hi << "]";
-    throw ParameterError(s.str());
-  }
+  rules::inRange(qualified(pnh, name), value, lo, hi);
 }
 
 void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& value,
                   const std::vector<std::string>& allowed) {
-  for (const auto& a : allowed)
-    if (a == value) return;
-  std::ostringstream s;
-  s << "parameter " << qualified(pnh, name) << " = '" << value << "': allowed values are";
-  for (std::size_t i = 0; i < allowed.size(); ++i) s << (i ? ", " : " ") << allowed[i];
-  throw ParameterError(s.str());
+  rules::oneOf(qualified(pnh, name), value, allowed);
 }
 
 }  // namespace robot_core

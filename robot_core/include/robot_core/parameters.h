@@ -1,5 +1,6 @@
 // Reading ~parameters strictly: a missing or out-of-range value stops the node at start
 // with one line naming the parameter and what is allowed, never a silent default.
+// A whole block read by a config reader shared with benches and tests: params.h.
 #pragma once
 
 #include <ros/ros.h>
@@ -8,13 +9,9 @@
 #include <string>
 #include <vector>
 
-namespace robot_core {
+#include "robot_core/parameter_error.h"
 
-// Thrown for bad configuration. what() is the one line the user sees.
-class ParameterError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace robot_core {
 
 // Required parameters: throw ParameterError when missing or of the wrong type.
 double requireDouble(const ros::NodeHandle& pnh, const std::string& name);

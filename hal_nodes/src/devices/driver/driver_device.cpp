@@ -61,6 +61,7 @@
 #include "hal_nodes/device_nodelet.h"
 #include "hal_nodes/driver/autopilot.h"
 #include "hal_nodes/driver/avoidance.h"
+#include "hal_nodes/driver/driver_config.h"
 #include "hal_nodes/driver/hermite_path.h"
 #include "hal_nodes/driver/path_follower.h"
 #include "hal_nodes/driver/pose_fusion.h"
@@ -108,47 +109,14 @@ class Driver : public Effector {
   void init(DeviceContext& ctx) override {
     ros::NodeHandle& p = ctx.pnh;
     period_ = 1.0 / ctx.rate;
-    AutopilotConfig ap;
-    readLimits(ros::NodeHandle(p, "limits"), &ap.limits);
-    ap.speed_curve = readCurve(ros::NodeHandle(p, "speed_curve"));
-    ap.turn_curve = readCurve(ros::NodeHandle(p, "turn_curve"));
-    ap.turn_in_place_angle = optionalDouble(p, "turn_in_place_angle", 0.6);
-    requireInRange(p, "turn_in_place_angle", ap.turn_in_place_angle, 0.05, M_PI);
-    ap.near_radius = optionalDouble(p, "near_radius", 0.04);
-    requireInRange(p, "near_radius", ap.near_radius, 0.0, 0.5);
-    check(p, "", ap.invalidReason());
-
-    PathFollowerConfig pf;
-    ros::NodeHandle pp(p, "path");
-    pf.convergence_distance = optionalDouble(pp, "convergence_distance", pf.convergence_distance);
-    pf.max_lateral_accel = optionalDouble(pp, "max_lateral_accel", pf.max_lateral_accel);
-    pf.sample_step = optionalDouble(pp, "sample_step", pf.sample_step);
-    pf.lookahead_time = optionalDouble(pp, "lookahead_time", pf.lookahead_time);
-    pf.heading_correction_speed = optionalDouble(pp, "heading_correction_speed", pf.heading_correction_speed);
-    check(pp, "", pf.invalidReason());
-
-    AvoidanceConfig av;
-    ros::NodeHandle pa(p, "avoidance");
-    const std::string mode = optionalString(pa, "mode", "stop");
-    requireOneOf(pa, "mode", mode, {"off", "stop", "detour"});
-    AvoidanceConfig::parseMode(mode, &av.mode);
-    av.robot_radius = optionalDouble(pa, "robot_radius", av.robot_radius);
-    av.opponent_radius = optionalDouble(pa, "opponent_radius", av.opponent_radius);
-    av.margin = optionalDouble(pa, "margin", av.margin);
-    av.braking_distance = optionalDouble(pa, "braking_distance", av.braking_distance);
-    av.detection_distance = optionalDouble(pa, "detection_distance", av.detection_distance);
-    av.border_margin = optionalDouble(pa, "border_margin", av.border_margin);
-    av.border_echo_tolerance = optionalDouble(pa, "border_echo_tolerance", av.border_echo_tolerance);
-    av.blocked_timeout = optionalDouble(pa, "blocked_timeout", av.blocked_timeout);
-    av.max_detours = optionalInt(pa, "max_detours", av.max_detours);
+    const robot_core::Params params = robot_core::Params::of(p);  // the reader the bench and tests use too
+    const AutopilotConfig ap = readAutopilotConfig(params);
+    const PathFollowerConfig pf = readPathFollowerConfig(params);
+    AvoidanceConfig av = readAvoidanceConfig(params, ap);
     av.table_length = optionalDouble(ctx.nh, "/table/length", av.table_length);
     av.table_width = optionalDouble(ctx.nh, "/table/width", av.table_width);
-    check(pa, "", av.invalidReason());
-    // The brake must be able to stop from full speed within braking_distance at the limit.
-    const double stop_distance = ap.limits.max_linear_speed * ap.limits.max_linear_speed / (2.0 * ap.limits.max_linear_accel);
-    if (av.mode != AvoidanceConfig::Mode::OFF && av.braking_distance < stop_distance)
-      throw ParameterError("parameter " + qualified(pa, "braking_distance") + " = " + std::to_string(av.braking_distance) +
-                           ": must be >= limits/max_linear_speed^2 / (2 limits/max_linear_accel) = " + std::to_string(stop_distance));
+    params["avoidance"].check("", av.invalidReason());
+    ros::NodeHandle pa(p, "avoidance");
     detour_tolerance_ = optionalDouble(pa, "detour_tolerance", 0.05);
     requirePositive(pa, "detour_tolerance", detour_tolerance_);
     obstacle_max_age_ = optionalDouble(pa, "max_obstacle_age", 0.3);
@@ -284,29 +252,6 @@ class Driver : public Effector {
   }
 
  private:
-  // ---------------------------------------------------------------- parameters
-  static void check(const ros::NodeHandle& pnh, const std::string& name, const std::string& reason) {
-    if (!reason.empty()) throw ParameterError("parameter " + qualified(pnh, name) + ": " + reason);
-  }
-
-  static ControlCurve readCurve(const ros::NodeHandle& pnh) {
-    ControlCurve c{requireDouble(pnh, "saturation"), requireDouble(pnh, "exponent")};
-    requirePositive(pnh, "saturation", c.saturation);
-    requireInRange(pnh, "exponent", c.exponent, 0.2, 4.0);
-    return c;
-  }
-
-  static void readLimits(const ros::NodeHandle& pnh, MotionLimits* l) {
-    const std::pair<const char*, double*> fields[] = {
-        {"max_linear_speed", &l->max_linear_speed}, {"max_angular_speed", &l->max_angular_speed},
-        {"max_linear_accel", &l->max_linear_accel}, {"max_angular_accel", &l->max_angular_accel},
-        {"max_wheel_speed", &l->max_wheel_speed},   {"track_width", &l->track_width}};
-    for (const auto& f : fields) {
-      *f.second = requireDouble(pnh, f.first);
-      requirePositive(pnh, f.first, *f.second);
-    }
-  }
-
   // ---------------------------------------------------------------- inputs
   void updatePose() {
     if (auto o = odom_->newest()) fusion_.addOdometry(o->header.stamp.toSec(), poseOf(o->pose.pose));

@@ -1,0 +1,89 @@
+#include "hal_nodes/driver/driver_config.h"
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace hal_nodes {
+namespace driver {
+
+using robot_core::Params;
+
+namespace {
+
+ControlCurve readCurve(const Params& p) {
+  ControlCurve c{p.requireDouble("saturation"), p.requireDouble("exponent")};
+  p.requirePositive("saturation", c.saturation);
+  p.requireInRange("exponent", c.exponent, 0.2, 4.0);
+  return c;
+}
+
+MotionLimits readLimits(const Params& p) {
+  MotionLimits l;
+  const std::pair<const char*, double*> fields[] = {
+      {"max_linear_speed", &l.max_linear_speed}, {"max_angular_speed", &l.max_angular_speed},
+      {"max_linear_accel", &l.max_linear_accel}, {"max_angular_accel", &l.max_angular_accel},
+      {"max_wheel_speed", &l.max_wheel_speed},   {"track_width", &l.track_width}};
+  for (const auto& f : fields) {
+    *f.second = p.requireDouble(f.first);
+    p.requirePositive(f.first, *f.second);
+  }
+  return l;
+}
+
+}  // namespace
+
+AutopilotConfig readAutopilotConfig(const Params& p) {
+  AutopilotConfig ap;
+  ap.limits = readLimits(p["limits"]);
+  ap.speed_curve = readCurve(p["speed_curve"]);
+  ap.turn_curve = readCurve(p["turn_curve"]);
+  ap.turn_in_place_angle = p.optionalDouble("turn_in_place_angle", 0.6);
+  p.requireInRange("turn_in_place_angle", ap.turn_in_place_angle, 0.05, M_PI);
+  ap.near_radius = p.optionalDouble("near_radius", 0.04);
+  p.requireInRange("near_radius", ap.near_radius, 0.0, 0.5);
+  p.check("", ap.invalidReason());
+  return ap;
+}
+
+PathFollowerConfig readPathFollowerConfig(const Params& driver) {
+  const Params p = driver["path"];
+  PathFollowerConfig pf;
+  pf.convergence_distance = p.optionalDouble("convergence_distance", pf.convergence_distance);
+  pf.max_lateral_accel = p.optionalDouble("max_lateral_accel", pf.max_lateral_accel);
+  pf.sample_step = p.optionalDouble("sample_step", pf.sample_step);
+  pf.lookahead_time = p.optionalDouble("lookahead_time", pf.lookahead_time);
+  pf.heading_correction_speed = p.optionalDouble("heading_correction_speed", pf.heading_correction_speed);
+  p.check("", pf.invalidReason());
+  return pf;
+}
+
+AvoidanceConfig readAvoidanceConfig(const Params& driver, const AutopilotConfig& autopilot) {
+  const Params p = driver["avoidance"];
+  AvoidanceConfig av;
+  const std::string mode = p.optionalString("mode", "stop");
+  p.requireOneOf("mode", mode, {"off", "stop", "detour"});
+  AvoidanceConfig::parseMode(mode, &av.mode);
+  av.robot_radius = p.optionalDouble("robot_radius", av.robot_radius);
+  av.opponent_radius = p.optionalDouble("opponent_radius", av.opponent_radius);
+  av.margin = p.optionalDouble("margin", av.margin);
+  av.braking_distance = p.optionalDouble("braking_distance", av.braking_distance);
+  av.detection_distance = p.optionalDouble("detection_distance", av.detection_distance);
+  av.border_margin = p.optionalDouble("border_margin", av.border_margin);
+  av.border_echo_tolerance = p.optionalDouble("border_echo_tolerance", av.border_echo_tolerance);
+  av.blocked_timeout = p.optionalDouble("blocked_timeout", av.blocked_timeout);
+  av.max_detours = p.optionalInt("max_detours", av.max_detours);
+  p.check("", av.invalidReason());
+  // The brake must be able to stop from full speed within braking_distance at the limit.
+  const MotionLimits& l = autopilot.limits;
+  const double stop_distance = l.max_linear_speed * l.max_linear_speed / (2.0 * l.max_linear_accel);
+  if (av.mode != AvoidanceConfig::Mode::OFF && av.braking_distance < stop_distance)
+    throw robot_core::ParameterError("parameter " + p.qualified("braking_distance") + " = " +
+                                     std::to_string(av.braking_distance) +
+                                     ": must be >= limits/max_linear_speed^2 / (2 limits/max_linear_accel) = " +
+                                     std::to_string(stop_distance));
+  return av;
+}
+
+}  // namespace driver
+}  // namespace hal_nodes

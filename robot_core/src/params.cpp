@@ -1,0 +1,170 @@
+#include "robot_core/params.h"
+
+#include <ros/node_handle.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "parameter_rules.h"
+
+namespace robot_core {
+
+namespace {
+
+// A plain YAML scalar typed as `rosparam load` types it (PyYAML, YAML 1.1): bool, int (decimal,
+// 0x hex, 0o or leading-0 octal), float (with .inf / .nan), else string. Quoted: always a string.
+XmlRpc::XmlRpcValue scalarOf(const YAML::Node& n) {
+  const std::string s = n.Scalar();
+  if (n.Tag() == "!") return XmlRpc::XmlRpcValue(s);  // quoted
+  std::string l = s;
+  std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (l == "true" || l == "yes" || l == "on") return XmlRpc::XmlRpcValue(true);
+  if (l == "false" || l == "no" || l == "off") return XmlRpc::XmlRpcValue(false);
+  static const std::regex decimal("[-+]?(0|[1-9][0-9_]*)"), hex("[-+]?0x[0-9a-fA-F_]+"), octal("[-+]?0o?[0-7_]+");
+  std::string digits = s;
+  digits.erase(std::remove(digits.begin(), digits.end(), '_'), digits.end());
+  if (std::regex_match(s, decimal)) return XmlRpc::XmlRpcValue(static_cast<int>(std::stol(digits, nullptr, 10)));
+  if (std::regex_match(s, hex)) return XmlRpc::XmlRpcValue(static_cast<int>(std::stol(digits, nullptr, 16)));
+  if (std::regex_match(s, octal)) {
+    std::string o = digits;
+    const auto pos = o.find("0o");
+    if (pos != std::string::npos) o.erase(pos, 2);
+    return XmlRpc::XmlRpcValue(static_cast<int>(std::stol(o, nullptr, 8)));
+  }
+  if (l == ".inf" || l == "+.inf") return XmlRpc::XmlRpcValue(INFINITY);
+  if (l == "-.inf") return XmlRpc::XmlRpcValue(-INFINITY);
+  if (l == ".nan") return XmlRpc::XmlRpcValue(NAN);
+  // YAML 1.1 needs the dot: 1e-3 is a string there (and so in rosparam), 1.0e-3 a number
+  static const std::regex real("[-+]?([0-9][0-9_]*)?\\.[0-9_]*([eE][-+][0-9]+)?");
+  if (std::regex_match(s, real) && s.find_first_of("0123456789") != std::string::npos)
+    return XmlRpc::XmlRpcValue(std::stod(digits));
+  return XmlRpc::XmlRpcValue(s);
+}
+
+XmlRpc::XmlRpcValue treeOf(const YAML::Node& n) {
+  XmlRpc::XmlRpcValue v;
+  switch (n.Type()) {
+    case YAML::NodeType::Map:
+      for (const auto& kv : n) v[kv.first.as<std::string>()] = treeOf(kv.second);
+      break;
+    case YAML::NodeType::Sequence:
+      v.setSize(static_cast<int>(n.size()));
+      for (std::size_t i = 0; i < n.size(); ++i) v[static_cast<int>(i)] = treeOf(n[i]);
+      break;
+    case YAML::NodeType::Scalar:
+      v = scalarOf(n);
+      break;
+    default:  // null: left invalid, as if absent
+      break;
+  }
+  return v;
+}
+
+std::vector<std::string> split(const std::string& path) {
+  std::vector<std::string> parts;
+  std::stringstream s(path);
+  std::string p;
+  while (std::getline(s, p, '/'))
+    if (!p.empty()) parts.push_back(p);
+  return parts;
+}
+
+}  // namespace
+
+Params::Params(XmlRpc::XmlRpcValue tree, std::string ns) : tree_(std::move(tree)), ns_(std::move(ns)) {}
+
+Params Params::of(const ros::NodeHandle& nh) {
+  XmlRpc::XmlRpcValue tree;
+  nh.getParam(nh.getNamespace(), tree);  // nothing set: an empty namespace, every default
+  return Params(tree, nh.getNamespace());
+}
+
+Params Params::fromYamlFile(const std::string& file, const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::Exception& e) {
+    throw ParameterError("cannot read " + file + ": " + e.what());
+  }
+  Params all(treeOf(root), "");
+  if (path.empty()) return all;
+  if (!all.has(path)) throw ParameterError(file + " has no block " + path);
+  return all[path];
+}
+
+const XmlRpc::XmlRpcValue* Params::find(const std::string& name) const {
+  XmlRpc::XmlRpcValue* v = &tree_;
+  for (const auto& part : split(name)) {
+    if (v->getType() != XmlRpc::XmlRpcValue::TypeStruct || !v->hasMember(part)) return nullptr;
+    v = &(*v)[part];
+  }
+  return v->valid() ? v : nullptr;
+}
+
+Params Params::operator[](const std::string& name) const {
+  const XmlRpc::XmlRpcValue* v = find(name);
+  return Params(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
+}
+
+std::string Params::qualified(const std::string& name) const { return ns_ + "/" + name; }
+
+bool Params::has(const std::string& name) const { return find(name) != nullptr; }
+
+double Params::requireDouble(const std::string& name) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  if (!v) rules::missing(qualified(name), "a number");
+  return rules::toNumber(*v, qualified(name));
+}
+
+int Params::requireInt(const std::string& name) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  if (!v) rules::missing(qualified(name), "an integer");
+  return rules::toInt(*v, qualified(name));
+}
+
+std::string Params::requireString(const std::string& name) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  if (!v) rules::missing(qualified(name), "a string");
+  return rules::toString(*v, qualified(name));
+}
+
+double Params::optionalDouble(const std::string& name, double fallback) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  return v ? rules::toNumber(*v, qualified(name)) : fallback;
+}
+
+int Params::optionalInt(const std::string& name, int fallback) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  return v ? rules::toInt(*v, qualified(name)) : fallback;
+}
+
+bool Params::optionalBool(const std::string& name, bool fallback) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  return v ? rules::toBool(*v, qualified(name)) : fallback;
+}
+
+std::string Params::optionalString(const std::string& name, const std::string& fallback) const {
+  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  return v ? rules::toString(*v, qualified(name)) : fallback;
+}
+
+void Params::requirePositive(const std::string& name, double value) const { rules::positive(qualified(name), value); }
+
+void Params::requireInRange(const std::string& name, double value, double lo, double hi) const {
+  rules::inRange(qualified(name), value, lo, hi);
+}
+
+void Params::requireOneOf(const std::string& name, const std::string& value,
+                          const std::vector<std::string>& allowed) const {
+  rules::oneOf(qualified(name), value, allowed);
+}
+
+void Params::check(const std::string& name, const std::string& reason) const {
+  if (!reason.empty()) throw ParameterError("parameter " + (name.empty() ? ns_ : qualified(name)) + ": " + reason);
+}
+
+}  // namespace robot_core

@@ -1,0 +1,88 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "robot_core/params.h"
+
+using robot_core::ParameterError;
+using robot_core::Params;
+
+namespace {
+std::string writeYaml(const std::string& text) {
+  char name[] = "/tmp/test_params_XXXXXX";
+  const int fd = mkstemp(name);
+  close(fd);
+  std::ofstream(name) << text;
+  return name;
+}
+}  // namespace
+
+TEST(Params, TypesAsRosparamLoadsThem) {
+  const std::string f = writeYaml(
+      "hal:\n"
+      "  driver:\n"
+      "    rate: 50\n"
+      "    ratio: 0.5\n"
+      "    address: 0x60\n"
+      "    enabled: true\n"
+      "    name: \"0x10\"\n"
+      "    mode: stop\n"
+      "    limits: {max: 1.0e-1, min: -.inf, text: 1e-1}\n"
+      "    list: [1, 2]\n");
+  const Params p = Params::fromYamlFile(f, "hal/driver");
+  EXPECT_EQ(p.ns(), "/hal/driver");
+  EXPECT_DOUBLE_EQ(p.requireDouble("rate"), 50.0);  // an integer where a number is asked for
+  EXPECT_EQ(p.requireInt("rate"), 50);
+  EXPECT_DOUBLE_EQ(p.requireDouble("ratio"), 0.5);
+  EXPECT_EQ(p.requireInt("address"), 0x60);
+  EXPECT_TRUE(p.optionalBool("enabled", false));
+  EXPECT_EQ(p.requireString("name"), "0x10");  // quoted: a string
+  EXPECT_EQ(p.optionalString("mode", "off"), "stop");
+  EXPECT_DOUBLE_EQ(p["limits"].requireDouble("max"), 0.1);
+  EXPECT_TRUE(std::isinf(p.requireDouble("limits/min")));
+  EXPECT_EQ(p["limits"].requireString("text"), "1e-1");  // YAML 1.1: no dot, no number
+  EXPECT_EQ(p["limits"].qualified("max"), "/hal/driver/limits/max");
+  EXPECT_DOUBLE_EQ(p.optionalDouble("absent", 2.5), 2.5);
+  EXPECT_DOUBLE_EQ(p["absent_block"].optionalDouble("x", 1.5), 1.5);
+  std::remove(f.c_str());
+}
+
+TEST(Params, ErrorsNameTheParameter) {
+  const std::string f = writeYaml("b: {rate: fast, n: 2.5, speed: -1}\n");
+  const Params p = Params::fromYamlFile(f, "b");
+  try {
+    p.requireDouble("rate");
+    FAIL() << "a string read as a number";
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "parameter /b/rate has the wrong type: expected a number");
+  }
+  EXPECT_THROW(p.requireInt("n"), ParameterError);  // 2.5 is no integer
+  try {
+    p.requireDouble("missing");
+    FAIL();
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "missing required parameter /b/missing (a number)");
+  }
+  try {
+    p.requirePositive("speed", p.requireDouble("speed"));
+    FAIL();
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "parameter /b/speed = -1: must be > 0");
+  }
+  EXPECT_THROW(Params::fromYamlFile(f, "no/such/block"), ParameterError);
+  EXPECT_THROW(Params::fromYamlFile("/no/such/file.yaml"), ParameterError);
+  std::remove(f.c_str());
+}
+
+TEST(Params, ReadsTheRobotsConfig) {
+  for (const char* robot : {"eurobot2009", "logion"}) {
+    const Params p = Params::fromYamlFile(std::string(ROBOT_CONFIG_DIR) + "/" + robot + ".yaml", "hal/driver");
+    EXPECT_EQ(p.requireString("type"), "Driver") << robot;
+    EXPECT_GT(p["limits"].requireDouble("max_wheel_speed"), 0.0) << robot;
+  }
+}
