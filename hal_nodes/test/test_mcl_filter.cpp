@@ -1,5 +1,5 @@
 // The localization filter on short synthetic beacon runs generated here with a fixed seed
-// (the same model as ../shared/bench/make_beacon_run.py): tracking, global localization from a
+// (the same model as scripts/bench/data/make_beacon_run.py): tracking, global localization from a
 // uniform cloud, a kidnapped robot recovered without help, a silenced beacon, determinism of a
 // replay with a fixed seed, every MRPT resampling scheme, and the KLD-adaptive count.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // mcl_bench RUN.csv PARTICLES track|global [--kld] [--seed N] [--table LENGTH WIDTH]
 // Runs the localization device's own filter (libhal_mcl, the code the node links) on a
-// synthetic beacon run and prints one line in the format of ../shared/bench/README.md.
+// synthetic beacon run and prints one line in the format of scripts/bench/data/README.md.
 // Parameters are the node's defaults (config/<robot>.yaml `hal: localization:` block), so
 // the figures are those of the product, not of a bench-only tuning.
 #include <chrono>

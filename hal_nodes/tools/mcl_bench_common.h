@@ -1,5 +1,5 @@
 // Shared by the two localization bench tools (ours: mcl_bench, MRPT's stock MCL:
-// mcl_bench_stock): reading a synthetic beacon run (../shared/bench/README.md) and scoring a
+// mcl_bench_stock): reading a synthetic beacon run (scripts/bench/data/README.md) and scoring a
 // run of estimates into the one-line format that README defines.
 #pragma once
 
@@ -28,7 +28,7 @@ struct Run {
 
 inline Run readRun(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open run file '" + path + "' (the committed runs live in ../shared/bench)");
+  if (!in) throw std::runtime_error("cannot open run file '" + path + "' (scripts/bench/mcl.sh writes the runs into build/bench_data)");
   Run run;
   std::string line;
   bool header_seen = false;

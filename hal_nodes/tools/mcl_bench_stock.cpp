@@ -2,7 +2,7 @@
 // The reference peer of mcl_bench: MRPT's stock 2D MCL (CMonteCarloLocalization2D with a
 // CBeaconMap likelihood, standard proposal, MRPT's default Gaussian odometry model, systematic
 // resampling when ESS < 0.5, fixed particle count) on the same synthetic beacon run, printing
-// the same one-line format (../shared/bench/README.md). --range-std sets CBeaconMap's
+// the same one-line format (scripts/bench/data/README.md). --range-std sets CBeaconMap's
 // likelihoodOptions.rangeStd (the only thing that sets its beacon noise; default 0.08 m).
 #include <mrpt/bayes/CParticleFilter.h>
 #include <mrpt/maps/CBeacon.h>

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Localization: our MCL (mcl_bench, the node's filter library) side by side with
 # MRPT's stock CMonteCarloLocalization2D + CBeaconMap (mcl_bench_stock) on the committed
-# synthetic beacon runs of ../shared/bench, both modes, 2,000 particles, and the ratios
+# synthetic beacon runs of scripts/bench/data (generated into build/bench_data), both modes, 2,000 particles, and the ratios
 # ours/stock. The stock filter gets the run's true range noise and an odometry model matched
 # to the run (its defaults do worse). Its 10,000-particle global runs (README.md: 3.2 ms per
 # update) are left out to keep `make bench` short: `rosrun hal_nodes mcl_bench_stock RUN 10000
@@ -15,11 +15,13 @@
 # runs in that process, the localization's own share is cost per step x ~48 steps/s).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-data="$root/../shared/bench"
-if [ ! -f "$data/run_seed1.csv" ] || [ ! -f "$data/run_seed2_noisy.csv" ]; then
-  echo "mcl bench: the benchmark runs are missing: expected $data/run_seed1.csv and run_seed2_noisy.csv" >&2
-  exit 1
-fi
+# The two runs (scripts/bench/data/README.md), written by their deterministic generator: the same
+# bytes on every machine, so only the generator is committed.
+data="$root/build/bench_data"
+mkdir -p "$data"
+gen="$root/scripts/bench/data/make_beacon_run.py"
+[ -f "$data/run_seed1.csv" ] || python3 "$gen" --seed 1 "$data/run_seed1.csv"
+[ -f "$data/run_seed2_noisy.csv" ] || python3 "$gen" --seed 2 --range-std 0.02 --outlier 0.05 "$data/run_seed2_noisy.csv"
 n=2000
 ratio() {  # ours stock field -> ours/stock
   python3 - "$1" "$2" "$3" <<'PY'
