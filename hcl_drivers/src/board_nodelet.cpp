@@ -57,7 +57,7 @@ void BoardNodeletBase::onInit() {
 
   tryOpen();  // a bad parameter of the board itself stops the node here, with its one line
   if (!joined_) {
-    reopen_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(reopen_period_), [this](const ros::WallTimerEvent&) {
+    reopen_timer_ = getNodeHandle().createTimer(ros::Duration(reopen_period_), [this](const ros::TimerEvent&) {
       tryOpen();
       if (joined_) reopen_timer_.stop();
     });

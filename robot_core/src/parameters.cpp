@@ -72,12 +72,14 @@ void oneOf(const std::string& name, const std::string& value, const std::vector<
 
 }  // namespace rules
 
+inline namespace parameter_reader {
+
 std::string qualified(const ros::NodeHandle& pnh, const std::string& name) { return pnh.resolveName(name); }
 
 namespace {
-// The value of `name`, or false when it is not set.
+// The value of `name`, or false when it is not set (one request to the master).
 bool fetch(const ros::NodeHandle& pnh, const std::string& name, XmlRpc::XmlRpcValue* v) {
-  return pnh.hasParam(name) && pnh.getParam(name, *v);
+  return pnh.getParam(name, *v);
 }
 }  // namespace
 
@@ -132,4 +134,5 @@ void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std
   rules::oneOf(qualified(pnh, name), value, allowed);
 }
 
+}  // namespace parameter_reader
 }  // namespace robot_core

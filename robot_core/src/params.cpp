@@ -96,7 +96,7 @@ Params Params::fromYamlFile(const std::string& file, const std::string& path) {
   return all[path];
 }
 
-const XmlRpc::XmlRpcValue* Params::find(const std::string& name) const {
+XmlRpc::XmlRpcValue* Params::find(const std::string& name) const {
   XmlRpc::XmlRpcValue* v = &tree_;
   for (const auto& part : split(name)) {
     if (v->getType() != XmlRpc::XmlRpcValue::TypeStruct || !v->hasMember(part)) return nullptr;
@@ -115,40 +115,40 @@ std::string Params::qualified(const std::string& name) const { return ns_ + "/" 
 bool Params::has(const std::string& name) const { return find(name) != nullptr; }
 
 double Params::requireDouble(const std::string& name) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   if (!v) rules::missing(qualified(name), "a number");
   return rules::toNumber(*v, qualified(name));
 }
 
 int Params::requireInt(const std::string& name) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   if (!v) rules::missing(qualified(name), "an integer");
   return rules::toInt(*v, qualified(name));
 }
 
 std::string Params::requireString(const std::string& name) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   if (!v) rules::missing(qualified(name), "a string");
   return rules::toString(*v, qualified(name));
 }
 
 double Params::optionalDouble(const std::string& name, double fallback) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toNumber(*v, qualified(name)) : fallback;
 }
 
 int Params::optionalInt(const std::string& name, int fallback) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toInt(*v, qualified(name)) : fallback;
 }
 
 bool Params::optionalBool(const std::string& name, bool fallback) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toBool(*v, qualified(name)) : fallback;
 }
 
 std::string Params::optionalString(const std::string& name, const std::string& fallback) const {
-  auto* v = const_cast<XmlRpc::XmlRpcValue*>(find(name));
+  XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toString(*v, qualified(name)) : fallback;
 }
 

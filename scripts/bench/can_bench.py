@@ -162,7 +162,7 @@ def load_config():
         sim = yaml.safe_load(f)
     boards = {k: dict(v, bus=BUS) for k, v in robot['hcl'].items() if isinstance(v, dict) and v.get('type') in CAN_TYPES}
     emus = {k: dict(v, bus=BUS) for k, v in sim['sim']['firmware'].items()
-            if isinstance(v, dict) and str(v.get('type', '')).startswith('can_')}
+            if isinstance(v, dict) and v.get('type') in CAN_TYPES}  # an emulator has its board's name
     return boards, emus
 
 

@@ -12,7 +12,7 @@ import yaml
 ROOT = sys.argv[1] if len(sys.argv) > 1 else os.getcwd()
 PORT = 27290
 os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % PORT
-I2C_TYPES = {'HBMotor': 'hbmotor', 'MCP23016': 'mcp23016', 'SRF02': 'srf02', 'CMPS03': 'cmps03'}
+I2C_TYPES = {'HBMotor', 'MCP23016', 'SRF02', 'CMPS03'}  # the boards' names, which their emulators share
 MEASURE_S = 6.0
 
 
@@ -30,7 +30,7 @@ def main():
     for name, block in cfg.items():
         if isinstance(block, dict) and block.get('type') in I2C_TYPES:
             hcl[name] = dict(block, bus=bus)
-            fw[name] = {'type': I2C_TYPES[block['type']], 'bus': bus, 'address': block['address']}
+            fw[name] = {'type': block['type'], 'bus': bus, 'address': block['address']}
     beacons = dict(cfg['beacons'], port=tty)
     hcl['beacons'] = beacons
     fw['beacons'] = {'type': 'BeaconReceiver', 'port': tty, 'period': 0.01}

@@ -56,12 +56,13 @@ class Recorder(object):
 
 
 class DeviceDiagnostics(object):
-    """The newest /diagnostics status of each HAL device (by a part of its name)."""
+    """The newest status of each device or board (by a part of its name) on /diagnostics, or on
+    /diagnostics_agg with topic='/diagnostics_agg'."""
 
-    def __init__(self):
+    def __init__(self, topic='/diagnostics'):
         self.lock = threading.Lock()
         self.items = []
-        self.sub = rospy.Subscriber('/diagnostics', DiagnosticArray, self._cb, queue_size=500)
+        self.sub = rospy.Subscriber(topic, DiagnosticArray, self._cb, queue_size=500)
 
     def _cb(self, arr):
         now = time.monotonic()

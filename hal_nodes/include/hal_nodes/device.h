@@ -26,18 +26,7 @@
 namespace hal_nodes {
 
 // Devices read their ~parameters with robot_core's strict reader (robot_core/parameters.h).
-using robot_core::ParameterError;
-using robot_core::optionalBool;
-using robot_core::optionalDouble;
-using robot_core::optionalInt;
-using robot_core::optionalString;
-using robot_core::qualified;
-using robot_core::requireDouble;
-using robot_core::requireInRange;
-using robot_core::requireInt;
-using robot_core::requireOneOf;
-using robot_core::requirePositive;
-using robot_core::requireString;
+using namespace robot_core::parameter_reader;
 
 struct DeviceContext {
   ros::NodeHandle nh;   // the HAL process namespace (global topics)

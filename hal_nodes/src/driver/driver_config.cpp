@@ -1,6 +1,7 @@
 #include "hal_nodes/driver/driver_config.h"
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <utility>
 
@@ -16,6 +17,11 @@ ControlCurve readCurve(const Params& p) {
   p.requirePositive("saturation", c.saturation);
   p.requireInRange("exponent", c.exponent, 0.2, 4.0);
   return c;
+}
+
+// Optional numbers, each kept at its struct default when the block does not set it.
+void readOptional(const Params& p, std::initializer_list<std::pair<const char*, double*>> fields) {
+  for (const auto& f : fields) *f.second = p.optionalDouble(f.first, *f.second);
 }
 
 MotionLimits readLimits(const Params& p) {
@@ -49,11 +55,11 @@ AutopilotConfig readAutopilotConfig(const Params& p) {
 PathFollowerConfig readPathFollowerConfig(const Params& driver) {
   const Params p = driver["path"];
   PathFollowerConfig pf;
-  pf.convergence_distance = p.optionalDouble("convergence_distance", pf.convergence_distance);
-  pf.max_lateral_accel = p.optionalDouble("max_lateral_accel", pf.max_lateral_accel);
-  pf.sample_step = p.optionalDouble("sample_step", pf.sample_step);
-  pf.lookahead_time = p.optionalDouble("lookahead_time", pf.lookahead_time);
-  pf.heading_correction_speed = p.optionalDouble("heading_correction_speed", pf.heading_correction_speed);
+  readOptional(p, {{"convergence_distance", &pf.convergence_distance},
+                   {"max_lateral_accel", &pf.max_lateral_accel},
+                   {"sample_step", &pf.sample_step},
+                   {"lookahead_time", &pf.lookahead_time},
+                   {"heading_correction_speed", &pf.heading_correction_speed}});
   p.check("", pf.invalidReason());
   return pf;
 }
@@ -64,14 +70,14 @@ AvoidanceConfig readAvoidanceConfig(const Params& driver, const AutopilotConfig&
   const std::string mode = p.optionalString("mode", "stop");
   p.requireOneOf("mode", mode, {"off", "stop", "detour"});
   AvoidanceConfig::parseMode(mode, &av.mode);
-  av.robot_radius = p.optionalDouble("robot_radius", av.robot_radius);
-  av.opponent_radius = p.optionalDouble("opponent_radius", av.opponent_radius);
-  av.margin = p.optionalDouble("margin", av.margin);
-  av.braking_distance = p.optionalDouble("braking_distance", av.braking_distance);
-  av.detection_distance = p.optionalDouble("detection_distance", av.detection_distance);
-  av.border_margin = p.optionalDouble("border_margin", av.border_margin);
-  av.border_echo_tolerance = p.optionalDouble("border_echo_tolerance", av.border_echo_tolerance);
-  av.blocked_timeout = p.optionalDouble("blocked_timeout", av.blocked_timeout);
+  readOptional(p, {{"robot_radius", &av.robot_radius},
+                   {"opponent_radius", &av.opponent_radius},
+                   {"margin", &av.margin},
+                   {"braking_distance", &av.braking_distance},
+                   {"detection_distance", &av.detection_distance},
+                   {"border_margin", &av.border_margin},
+                   {"border_echo_tolerance", &av.border_echo_tolerance},
+                   {"blocked_timeout", &av.blocked_timeout}});
   av.max_detours = p.optionalInt("max_detours", av.max_detours);
   p.check("", av.invalidReason());
   // The brake must be able to stop from full speed within braking_distance at the limit.

@@ -10,7 +10,7 @@
 //   ~required         true (default): the robot is not ready for a match without this board;
 //                     false: an optional board (a camera, a joystick), reported but not waited for.
 //                     Published as the `required` value of the board's /diagnostics status.
-//   ~reopen_period    [s, wall] a board whose channel cannot be opened (no /dev/i2c-1, no such
+//   ~reopen_period    [s] a board whose channel cannot be opened (no /dev/i2c-1, no such
 //                     CAN interface, a serial port unplugged) is STALE and tried again this often
 //                     (default 1.0); the node and its other boards keep running.
 #pragma once
@@ -46,7 +46,7 @@ class BoardNodeletBase : public nodelet::Nodelet {
   std::unique_ptr<Board> board_;  // null until its channel opened
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
-  ros::WallTimer reopen_timer_;  // wall time: a paused simulated clock must not stop the retries
+  ros::Timer reopen_timer_;      // ROS time, like the polling: the retries follow the simulated clock
   std::mutex open_mutex_;        // one tryOpen() at a time (the callback queue is multi-threaded)
   std::string member_name_;
   std::string loop_;

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 namespace robot_core {
+inline namespace parameter_reader {  // see parameters.h
 
 // Thrown for bad configuration. what() is the one line the user sees.
 class ParameterError : public std::runtime_error {
@@ -10,4 +11,5 @@ class ParameterError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+}  // namespace parameter_reader
 }  // namespace robot_core

@@ -12,6 +12,9 @@
 #include "robot_core/parameter_error.h"
 
 namespace robot_core {
+// The reader's names live in an inline namespace so a layer can take exactly them with one
+// `using namespace robot_core::parameter_reader;` (board.h, device.h).
+inline namespace parameter_reader {
 
 // Required parameters: throw ParameterError when missing or of the wrong type.
 double requireDouble(const ros::NodeHandle& pnh, const std::string& name);
@@ -33,4 +36,5 @@ void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std
 // The fully resolved parameter name, for messages.
 std::string qualified(const ros::NodeHandle& pnh, const std::string& name);
 
+}  // namespace parameter_reader
 }  // namespace robot_core

@@ -52,9 +52,9 @@ class Params {
   void check(const std::string& name, const std::string& reason) const;
 
  private:
-  const XmlRpc::XmlRpcValue* find(const std::string& name) const;
+  XmlRpc::XmlRpcValue* find(const std::string& name) const;  // null when absent
 
-  mutable XmlRpc::XmlRpcValue tree_;  // XmlRpcValue's lookups are not const
+  mutable XmlRpc::XmlRpcValue tree_;  // XmlRpcValue's lookups and conversions are not const
   std::string ns_;
 };
 

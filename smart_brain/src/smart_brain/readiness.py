@@ -61,11 +61,10 @@ def is_required(status):
 
 def diagnostics_problems(statuses, optional=()):
     """The boards' and devices' items that are not OK: ['/Boards/x: board is STALE: why', ...].
-    `statuses`: name -> (level, message) or (level, message, required)."""
+    `statuses`: name -> (level, message, required)."""
     problems = []
     for name in sorted(statuses):
-        level, message = statuses[name][:2]
-        required = statuses[name][2] if len(statuses[name]) > 2 else True
+        level, message, required = statuses[name]
         if level == DiagnosticStatus.OK or not required or any(o in name for o in optional):
             continue
         problems.append('%s is %s: %s' % (name, LEVELS.get(level, level), message))
