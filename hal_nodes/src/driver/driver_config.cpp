@@ -91,5 +91,43 @@ AvoidanceConfig readAvoidanceConfig(const Params& driver, const AutopilotConfig&
   return av;
 }
 
+DriverDeviceConfig readDriverDeviceConfig(const Params& p) {
+  DriverDeviceConfig c;
+  const std::pair<const char*, double*> positive[] = {
+      {"default_position_tolerance", &c.default_position_tolerance},
+      {"default_angle_tolerance", &c.default_angle_tolerance},
+      {"default_straight_tolerance", &c.default_straight_tolerance},
+      {"max_pose_age", &c.max_pose_age},
+      {"max_odom_age", &c.max_odom_age}};
+  for (const auto& f : positive) {
+    *f.second = p.optionalDouble(f.first, *f.second);
+    p.requirePositive(f.first, *f.second);
+  }
+  c.stall_timeout = p.optionalDouble("stall_timeout", c.stall_timeout);
+  p.requireInRange("stall_timeout", c.stall_timeout, 0.0, 60.0);
+  c.max_hold = p.optionalDouble("max_hold", c.max_hold);
+  p.requireInRange("max_hold", c.max_hold, 0.0, 60.0);
+  c.min_probability = p.optionalDouble("min_probability", c.min_probability);
+  p.requireInRange("min_probability", c.min_probability, 0.0, 1.0);
+  c.predict_pose = p.optionalBool("predict_pose", c.predict_pose);
+  c.motor_status = p.optionalString("motor_status", c.motor_status);
+  // diagnostic_updater names a status "<node name without its leading slash>: <task>".
+  if (!c.motor_status.empty() && c.motor_status[0] == '/') c.motor_status.erase(0, 1);
+  c.base_frame = p.optionalString("base_frame", c.base_frame);
+  c.map_frame = p.optionalString("map_frame", c.map_frame);
+  c.pose_topic = p.optionalString("pose_topic", c.pose_topic);
+  c.quality_topic = p.optionalString("quality_topic", c.quality_topic);
+  c.odom_topic = p.optionalString("odom_topic", c.odom_topic);
+  c.cmd_vel_topic = p.optionalString("cmd_vel_topic", c.cmd_vel_topic);
+  const Params a = p["avoidance"];
+  c.detour_tolerance = a.optionalDouble("detour_tolerance", c.detour_tolerance);
+  a.requirePositive("detour_tolerance", c.detour_tolerance);
+  c.max_obstacle_age = a.optionalDouble("max_obstacle_age", c.max_obstacle_age);
+  a.requirePositive("max_obstacle_age", c.max_obstacle_age);
+  c.ranger_prefix = a.optionalString("ranger_prefix", c.ranger_prefix);
+  c.opponent_topic = a.optionalString("opponent_topic", c.opponent_topic);
+  return c;
+}
+
 }  // namespace driver
 }  // namespace hal_nodes
