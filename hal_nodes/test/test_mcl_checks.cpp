@@ -14,7 +14,7 @@ using namespace hal_nodes::mcl;
 
 namespace {
 
-ParticleSet makeSet(std::initializer_list<Pose2> poses) {
+ParticleSet makeSet(std::initializer_list<Pose2D> poses) {
   ParticleSet s;
   s.resize(poses.size());
   std::size_t i = 0;
@@ -77,22 +77,20 @@ TEST(TableModel, ProjectBringsAnEstimateIntoFreeSpace) {
   EXPECT_NEAR(y, 0.4, 1e-9);
 }
 
-TEST(TableModel, RayCastAndDistanceToEdge) {
+// The table's rays and cones are robot_core's TableGeometry (tested there); the model passes its
+// raw blocks on, without the margin.
+TEST(TableModel, MeasuresAgainstTheRawBlocks) {
   auto t = table();
-  EXPECT_NEAR(t->rayCast(1.0, 1.0, 0.0, 5.0), 2.0, 1e-9);
-  EXPECT_NEAR(t->rayCast(1.0, 1.0, M_PI / 2, 5.0), 1.1, 1e-9);
-  EXPECT_NEAR(t->rayCast(1.0, 1.0, 0.0, 1.5), 1.5, 1e-9);         // capped
-  EXPECT_NEAR(t->rayCast(1.5, 1.0, -M_PI / 2, 5.0), 0.7, 1e-9);   // hits the obstacle top (y = 0.3)
-  EXPECT_NEAR(t->distanceToEdge(0.2, 1.0), 0.2, 1e-9);
-  EXPECT_NEAR(t->distanceToEdge(1.5, 0.5), 0.2, 1e-9);
-  EXPECT_EQ(t->distanceToEdge(-1.0, 1.0), 0.0);
+  EXPECT_NEAR(t->geometry().rayRange(1.5, 1.0, -M_PI / 2), 0.7, 1e-9);  // the block's top, y = 0.3
+  EXPECT_NEAR(t->geometry().distanceToEdge(1.5, 0.5), 0.2, 1e-9);
+  EXPECT_FALSE(t->isFree(1.5, 0.35));  // but the robot's centre keeps the margin
 }
 
 TEST(TableModel, UniformSamplesAreFree) {
   auto t = table();
   Rng rng(3);
   for (int i = 0; i < 2000; ++i) {
-    const Pose2 p = t->sampleFree(rng);
+    const Pose2D p = t->sampleFree(rng);
     ASSERT_TRUE(t->isFree(p.x, p.y));
     ASSERT_GE(p.theta, -M_PI);
     ASSERT_LT(p.theta, M_PI);
@@ -158,7 +156,7 @@ TEST(BeaconBelts, IntersectionsWeighMoreOnlyWhenNotConfident) {
   // Two particles on beacon 0's belt: at the three-belt intersection, and elsewhere on it.
   const double r0 = dist(1.0, 1.0, cfg.beacons[0]);
   const double a = std::atan2(1.0 - cfg.beacons[0][1], 1.0 - cfg.beacons[0][0]) + 0.3;
-  const Pose2 off{cfg.beacons[0][0] + r0 * std::cos(a), cfg.beacons[0][1] + r0 * std::sin(a), 0};
+  const Pose2D off{cfg.beacons[0][0] + r0 * std::cos(a), cfg.beacons[0][1] + r0 * std::sin(a), 0};
   StepContext ctx;
   ctx.now = 1.0;
   ctx.quality = 0.0;  // lost: intersections count
@@ -193,7 +191,7 @@ TEST(BeaconBelts, TrilaterationProposesThePosition) {
   ASSERT_TRUE(b.canSample(ctx));
   double sx = 0, sy = 0;
   for (int i = 0; i < 200; ++i) {
-    const Pose2 p = b.sample(ctx);
+    const Pose2D p = b.sample(ctx);
     EXPECT_TRUE(t->isFree(p.x, p.y));
     sx += p.x;
     sy += p.y;
@@ -286,28 +284,6 @@ TEST(Rangers, AMinimumRangeReadingMeansThisNearOrNearer) {
   EXPECT_GT(r.likelihood(0, {0.30, 1.0, 0.0}, 0.30), 10.0 * r.likelihood(0, {0.08, 1.0, 0.0}, 0.30));
 }
 
-TEST(TableModel, ConeRangeIsTheNearestEdgeInsideTheCone) {
-  auto t = table();
-  // At (1.0, 1.6) looking 45 deg up: the centre line meets the y = 2.1 border at 0.5 / sin 45;
-  // the 0.96 rad cone's upper edge (45 deg + 0.48 rad) comes nearest, the normal is outside it.
-  EXPECT_NEAR(t->coneRange(1.0, 1.6, M_PI / 4, 0.0, 5.0), 0.5 / std::sin(M_PI / 4), 1e-9);
-  EXPECT_NEAR(t->coneRange(1.0, 1.6, M_PI / 4, 0.96, 5.0), 0.5 / std::sin(M_PI / 4 + 0.48), 1e-9);
-  // A cone that holds the normal: the perpendicular distance.
-  EXPECT_NEAR(t->coneRange(1.0, 1.6, M_PI / 2 - 0.2, 0.96, 5.0), 0.5, 1e-9);
-  EXPECT_DOUBLE_EQ(t->coneRange(1.0, 1.6, M_PI / 4, 0.96, 0.3), 0.3);  // capped at max range
-  // Against a fine fan of rays from random free poses (borders and the obstacle's corners).
-  Rng rng(7);
-  for (int i = 0; i < 2000; ++i) {
-    const Pose2 p = t->sampleFree(rng);
-    const double width = rng.uniform(0.0, 1.2);
-    double fan = 1e9;
-    for (int k = 0; k <= 2000; ++k) fan = std::min(fan, t->rayCast(p.x, p.y, p.theta + width * (k / 2000.0 - 0.5), 5.0));
-    const double cone = t->coneRange(p.x, p.y, p.theta, width, 5.0);
-    EXPECT_LE(cone, fan + 1e-9) << p.x << " " << p.y << " " << p.theta << " " << width;
-    EXPECT_NEAR(cone, fan, 1e-3) << p.x << " " << p.y << " " << p.theta << " " << width;
-  }
-}
-
 TEST(Rangers, ASonarIsMeasuredOverItsCone) {
   auto t = table();
   RangerConfig side;
@@ -316,7 +292,7 @@ TEST(Rangers, ASonarIsMeasuredOverItsCone) {
   side.max_range = 2.0;
   Rangers from_reading({side}, 1.0, t);
   const double echo = 0.5 / std::sin(M_PI / 4 + 0.48);  // the nearest echo in a 0.96 rad cone
-  const Pose2 truth{1.0, 1.6, 0.0};
+  const Pose2D truth{1.0, 1.6, 0.0};
   EXPECT_GT(from_reading.likelihood(0, truth, echo, 0.96), 10.0 * from_reading.likelihood(0, truth, echo, 0.0));
   // beam_width < 0: each reading's field_of_view; the pose the echo fits gains weight.
   ParticleSet s = makeSet({{1.0, 1.6, 0.0}, {1.0, 2.1 - echo * std::sin(M_PI / 4), 0.0}});

@@ -20,10 +20,10 @@ const std::vector<std::array<double, 2>> kBeacons = {{-0.062, -0.062}, {-0.062, 
 
 struct Step {
   double t;
-  Pose2 odo;  // increment, robot frame
+  Pose2D odo;  // increment, robot frame
   int beacon;
   double range;
-  Pose2 truth;
+  Pose2D truth;
 };
 
 // A robot weaving over the table at 100 Hz, encoders with 1 % noise and slips, a beacon range
@@ -96,7 +96,7 @@ struct Rig {
       odom->addIncrement(0, s.odo, s.t);
       if (s.beacon >= 0) beacons->addRange(s.t, s.beacon, s.range);
       filter->update(s.t);
-      const Pose2 e = filter->estimate().pose;
+      const Pose2D e = filter->estimate().pose;
       err.push_back(std::hypot(e.x - s.truth.x, e.y - s.truth.y));
       probability.push_back(filter->estimate().probability);
     }

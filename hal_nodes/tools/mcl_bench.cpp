@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
     odom->addIncrement(0, {r.odo_dx, r.odo_dy, r.odo_dtheta}, r.t);  // stamped: slips are found
     if (r.beacon_id >= 0) beacons->addRange(r.t, r.beacon_id, r.range);
     filter.update(r.t);
-    const Pose2 p = filter.estimate().pose;
+    const Pose2D p = filter.estimate().pose;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     score.add(r, p.x, p.y, p.theta, ms);
     if (dump) std::fprintf(dump, "%.2f %.5f %.5f %.5f %.5f %.5f %.5f\n", r.t, p.x, p.y, p.theta, r.true_x, r.true_y, r.true_theta);

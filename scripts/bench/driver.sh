@@ -34,8 +34,14 @@ if [ -z "$bin" ] || [ ! -x "$bin" ]; then
   echo "driver bench: driver_bench not built (catkin_make first)"
   exit 1
 fi
-echo "-- kinematic model (Autopilot + limiter at 50 Hz, one period of delay, 20 ms motor lag):"
-"$bin" --rate 50 --delay 1 --lag 0.02
-echo "-- same, with the 2009 simulator's motor time constant (0.06 s) and two periods of delay:"
-"$bin" --rate 50 --delay 2 --lag 0.06
+# The control rate and the simulated drive motors' time constant, from the robot's config.
+read -r rate lag < <(python3 -c "
+import yaml
+config = yaml.safe_load(open('$root/config/eurobot2009.yaml'))
+sim = yaml.safe_load(open('$root/config/eurobot2009.sim.yaml'))
+print(config['hal']['driver']['rate'], sim['sim']['world']['robot']['motors']['left']['time_constant'])")
+echo "-- kinematic model (Autopilot + limiter at $rate Hz, one period of delay, 20 ms motor lag):"
+"$bin" --rate "$rate" --delay 1 --lag 0.02
+echo "-- same, with the 2009 simulator's motor time constant ($lag s) and two periods of delay:"
+"$bin" --rate "$rate" --delay 2 --lag "$lag"
 exit $status

@@ -7,30 +7,20 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src'))
-from smart_brain.triggers.border_echo import border_distance, ray_to_border  # noqa: E402
+from robot_core.table_geometry import TableGeometry  # noqa: E402
 
 L, W = 3.0, 2.1
+TABLE = TableGeometry(L, W)
 
 
 class BorderDistanceTest(unittest.TestCase):
-    def test_straight_rays(self):
-        self.assertAlmostEqual(ray_to_border(0.25, 1.8, 0.0, L, W), 2.75)
-        self.assertAlmostEqual(ray_to_border(0.25, 1.8, math.pi / 2, L, W), 0.3)
-        self.assertAlmostEqual(ray_to_border(1.0, 0.4, -math.pi / 2, L, W), 0.4)
-
     def test_the_cone_sees_the_nearer_wall(self):
-        # Logion's front_left SRF02 in the start zone: 45 deg to the left, 0.18 m below the wall
-        axis = ray_to_border(0.37, 1.92, math.pi / 4, L, W)
-        cone = border_distance(0.37, 1.92, math.pi / 4, 1.0, L, W)
+        # Logion's front_left SRF02 in the start zone: 45 deg to the left, 0.18 m below the wall:
+        # the cone's edge ray nearest the wall's normal comes nearest, not the axis.
+        axis = TABLE.ray_range(0.37, 1.92, math.pi / 4)
+        cone = TABLE.cone_range(0.37, 1.92, math.pi / 4, 1.0)
         self.assertAlmostEqual(axis, 0.18 * math.sqrt(2), places=6)
-        self.assertLess(cone, axis)
-        self.assertGreater(cone, 0.18)
-
-    def test_open_table_is_far(self):
-        self.assertGreater(border_distance(1.5, 1.0, 0.0, 0.3, L, W), 1.4)
-
-    def test_outside_the_table_is_zero(self):
-        self.assertEqual(border_distance(-0.1, 1.0, 0.0, 0.3, L, W), 0.0)
+        self.assertAlmostEqual(cone, 0.18 / math.sin(math.pi / 4 + 0.5), places=9)
 
 
 def sensor_transform(stamp, x, y, heading, parent='map', child='ranger'):
@@ -63,8 +53,8 @@ class BorderEchoPoseTest(unittest.TestCase):
         return m
 
     def test_the_wall_echo_is_explained_from_where_the_sonar_pinged(self):
-        wall = border_distance(0.37, 1.92, math.pi / 4, 0.96, L, W)   # ~0.19 m
-        now = border_distance(0.37, 1.92, 0.0, 0.96, L, W)            # ~0.39 m: the pose 0.15 s later
+        wall = TABLE.cone_range(0.37, 1.92, math.pi / 4, 0.96)   # ~0.19 m
+        now = TABLE.cone_range(0.37, 1.92, 0.0, 0.96)         # ~0.39 m: the pose 0.15 s later
         self.assertGreater(now - 0.08, wall)  # from the latest pose the echo would be "the opponent"
         self.assertTrue(self.echo.explains(self.reading(10.0, wall)))
 
@@ -93,7 +83,7 @@ class BorderEchoOdometryChainTest(unittest.TestCase):
     def test_a_reading_newer_than_map_to_odom_is_placed_by_odometry(self):
         from sensor_msgs.msg import Range
         import rospy
-        wall = border_distance(0.37, 1.92, math.pi / 4, 0.96, L, W)
+        wall = TABLE.cone_range(0.37, 1.92, math.pi / 4, 0.96)
         m = Range(range=wall, field_of_view=0.96, min_range=0.16, max_range=6.0)
         m.header.frame_id, m.header.stamp = 'ranger', rospy.Time.from_sec(10.15)
         # Wall time on purpose: a tf wait blocks the callback's thread in wall time, whatever the clock.

@@ -137,6 +137,58 @@ class DescriptionTest(unittest.TestCase):
             checked += 1
         sys.stdout.write('simulated robot geometries checked against the URDF: %d\n' % checked)
 
+    def test_robot_geometry_has_one_source(self):
+        # config/<robot>.yaml robot: the URDF, the simulated robot and every block of the config
+        # that uses a radius, a track or the encoder scale agree with it.
+        checked = 0
+        for robot in ('eurobot2009', 'logion'):
+            cfg, sim = load_config(robot, True)
+            geometry = cfg['robot']
+            hal = cfg['hal']
+            links, joints = parse(robot)
+            root = ET.parse(os.path.join(URDF_DIR, robot + '.urdf')).getroot()
+            chassis = [l for l in root.findall('link') if l.get('name') == 'chassis_link'][0]
+            _, left, _ = joints['left_wheel_link']
+            _, right, _ = joints['right_wheel_link']
+            world_robot = sim['sim']['world']['robot']
+            radius, track, wheel = geometry['radius'], geometry['track_width'], geometry['wheel_radius']
+            for where, value in (('urdf chassis_link', float(chassis.find('visual/geometry/cylinder').get('radius'))),
+                                 ('sim/world/robot/radius', world_robot['radius']),
+                                 ('hal/localization/robot_radius', hal['localization']['robot_radius']),
+                                 ('hal/driver/avoidance/robot_radius', hal['driver']['avoidance']['robot_radius'])):
+                self.assertAlmostEqual(value, radius, delta=1e-6, msg='%s: %s vs robot/radius' % (robot, where))
+            for where, value in (('urdf wheel joints', left[1] - right[1]),
+                                 ('sim/world/robot/wheel_base', world_robot['wheel_base']),
+                                 ('hal/driver/limits/track_width', hal['driver']['limits']['track_width']),
+                                 ('hal/drive/track_width', hal['drive']['track_width']),
+                                 ('hal/odometry/pairs/driven/track_width', hal['odometry']['pairs']['driven']['track_width'])):
+                self.assertAlmostEqual(value, track, delta=1e-6, msg='%s: %s vs robot/track_width' % (robot, where))
+            for where, value in (('urdf wheel joint height', left[2]),
+                                 ('sim/world/robot/wheel_radius', world_robot['wheel_radius'])):
+                self.assertAlmostEqual(value, wheel, delta=1e-6, msg='%s: %s vs robot/wheel_radius' % (robot, where))
+            ticks = geometry['encoder_ticks_per_rev']
+            for name, enc in world_robot['encoders'].items():
+                if enc.get('motor') in ('left', 'right'):
+                    self.assertEqual(enc['ticks_per_rev'], ticks, '%s: sim encoder %s' % (robot, name))
+            per_metre = ticks / (2 * math.pi * wheel)
+            driven = hal['odometry']['pairs']['driven']
+            for side in ('left', 'right'):
+                self.assertAlmostEqual(driven[side + '_ticks_per_meter'] / per_metre, 1.0, delta=1e-4,
+                                       msg='%s: odometry %s_ticks_per_meter' % (robot, side))
+            # The localization's rangers sit where the URDF puts their links.
+            for name, r in hal['localization'].get('rangers', {}).items():
+                link = name if name in links else 'ranger_' + name
+                self.assertIn(link, links, '%s: hal/localization/rangers/%s has no URDF link' % (robot, name))
+                parent, xyz, rpy = joints[link]
+                self.assertEqual(parent, 'base_link')
+                self.assertAlmostEqual(r['x'], xyz[0], delta=1e-3, msg='%s %s x' % (robot, name))
+                self.assertAlmostEqual(r['y'], xyz[1], delta=1e-3, msg='%s %s y' % (robot, name))
+                d = math.atan2(math.sin(rpy[2] - r['yaw']), math.cos(rpy[2] - r['yaw']))
+                self.assertLess(abs(d), 1e-3, '%s %s yaw %.4f vs %.4f' % (robot, name, r['yaw'], rpy[2]))
+                checked += 1
+        sys.stdout.write('localization ranger mounts checked against the URDF: %d\n' % checked)
+        self.assertGreater(checked, 0)
+
     def test_table_markers_draw_the_config_table(self):
         rospy.init_node('test_product_description', anonymous=True)
         msg = rospy.wait_for_message('/table_markers', MarkerArray, timeout=20.0)

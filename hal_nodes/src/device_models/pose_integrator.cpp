@@ -5,7 +5,7 @@
 
 namespace hal_nodes {
 
-void PoseIntegrator::reset(const Pose2& pose) {
+void PoseIntegrator::reset(const Pose2D& pose) {
   pose_ = pose;
   cov_.setZero();
   distance_ = 0.0;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <robot_core/table_geometry.h>
+
 namespace hal_nodes {
 namespace driver {
 
@@ -41,25 +43,9 @@ bool Avoidance::plausibleObstacle(const Point2D& p) const {
 }
 
 double Avoidance::borderRange(const Pose2D& sensor, double field_of_view) const {
-  const double x = sensor.x, y = sensor.y, L = config_.table_length, W = config_.table_width;
-  if (!(x > 0.0 && y > 0.0 && x < L && y < W)) return 0.0;  // off the table: everything is "border"
-  auto ray = [&](double a) {
-    const double dx = std::cos(a), dy = std::sin(a);
-    double d = std::numeric_limits<double>::infinity();
-    if (dx > 1e-12) d = std::min(d, (L - x) / dx);
-    if (dx < -1e-12) d = std::min(d, -x / dx);
-    if (dy > 1e-12) d = std::min(d, (W - y) / dy);
-    if (dy < -1e-12) d = std::min(d, -y / dy);
-    return d;
-  };
-  // Inside a rectangle the distance to its edge along a ray, as a function of the ray's angle,
-  // is smallest at a wall's normal or at the cone's edges: checking those is exact.
-  const double half = 0.5 * std::max(0.0, field_of_view);
-  double best = std::min(ray(sensor.theta - half), ray(sensor.theta + half));
-  const double normals[4] = {0.0, 0.5 * M_PI, M_PI, -0.5 * M_PI};
-  for (double n : normals)
-    if (std::fabs(wrapAngle(n - sensor.theta)) <= half) best = std::min(best, ray(n));
-  return best;
+  if (!(config_.table_length > 0.0 && config_.table_width > 0.0)) return 0.0;  // an invalid config sees only border
+  const robot_core::TableGeometry table(config_.table_length, config_.table_width);
+  return table.coneRange(sensor.x, sensor.y, sensor.theta, std::max(0.0, field_of_view));
 }
 
 bool Avoidance::borderExplains(const Pose2D& sensor, double field_of_view, double range) const {

@@ -56,7 +56,7 @@ void Filter::clearInputs() {
   for (auto& c : checking_) c->clear();
 }
 
-void Filter::setPose(const Pose2& pose, double std_xy, double std_theta) {
+void Filter::setPose(const Pose2D& pose, double std_xy, double std_theta) {
   set_.resize(cfg_.max_particles);
   for (std::size_t i = 0; i < set_.size(); ++i) {
     double x = pose.x + std_xy * rng_.gaussian(), y = pose.y + std_xy * rng_.gaussian();
@@ -74,7 +74,7 @@ void Filter::setPose(const Pose2& pose, double std_xy, double std_theta) {
   computeEstimate();
 }
 
-void Filter::setPoseUniform(const Pose2& pose, double half_xy, double half_theta) {
+void Filter::setPoseUniform(const Pose2D& pose, double half_xy, double half_theta) {
   set_.resize(cfg_.max_particles);
   for (std::size_t i = 0; i < set_.size(); ++i) {
     double x = pose.x + rng_.uniform(-half_xy, half_xy), y = pose.y + rng_.uniform(-half_xy, half_xy);
@@ -95,7 +95,7 @@ void Filter::setPoseUniform(const Pose2& pose, double half_xy, double half_theta
 void Filter::globalLocalization() {
   set_.resize(cfg_.max_particles);
   for (std::size_t i = 0; i < set_.size(); ++i) {
-    const Pose2 p = table_->sampleFree(rng_);
+    const Pose2D p = table_->sampleFree(rng_);
     set_.x[i] = p.x;
     set_.y[i] = p.y;
     set_.theta[i] = p.theta;
@@ -191,7 +191,7 @@ bool Filter::resetFromSensorsIfPossible() {
   const double u = rng_.uniform();
   for (std::size_t k = 0; k < replace; ++k) {
     const std::size_t i = std::min(n - 1, static_cast<std::size_t>((static_cast<double>(k) + u) * step));
-    const Pose2 p = sampler->sample(ctx_);
+    const Pose2D p = sampler->sample(ctx_);
     set_.x[i] = p.x;
     set_.y[i] = p.y;
     set_.theta[i] = p.theta;

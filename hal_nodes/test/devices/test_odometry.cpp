@@ -25,7 +25,7 @@ WheelPairModel model() {
 
 // Drive wheel surfaces by (dl, dr) metres in `steps` equal samples through 16-bit counters
 // starting at `start`, and integrate what the trackers see.
-Pose2 drive(PoseIntegrator& integ, double dl, double dr, int steps, uint32_t start = 0, uint8_t bits = 16) {
+Pose2D drive(PoseIntegrator& integ, double dl, double dr, int steps, uint32_t start = 0, uint8_t bits = 16) {
   EncoderTracker tl, tr;
   const WheelPairModel m = model();
   const uint32_t mask = bits == 32 ? 0xffffffffu : ((1u << bits) - 1u);
@@ -95,7 +95,7 @@ TEST(WrappedDelta, HalfRangeIsTheLimit) {
 
 TEST(Odometry, StraightLine) {
   PoseIntegrator integ;
-  const Pose2 p = drive(integ, 2.0, 2.0, 200);
+  const Pose2D p = drive(integ, 2.0, 2.0, 200);
   EXPECT_NEAR(p.x, 2.0, 1e-6);
   EXPECT_NEAR(p.y, 0.0, 1e-9);
   EXPECT_NEAR(p.theta, 0.0, 1e-9);
@@ -105,7 +105,7 @@ TEST(Odometry, StraightLine) {
 TEST(Odometry, StraightLineThroughManyWraps) {
   PoseIntegrator integ;
   // 10 m = 200000 ticks through a 16-bit counter: wraps three times; 100 ticks... per sample
-  const Pose2 p = drive(integ, 10.0, 10.0, 400, 60000);
+  const Pose2D p = drive(integ, 10.0, 10.0, 400, 60000);
   EXPECT_NEAR(p.x, 10.0, 1e-6);
   EXPECT_NEAR(p.y, 0.0, 1e-9);
 }
@@ -114,14 +114,14 @@ TEST(Odometry, ArcEndsOnTheCircle) {
   // Quarter circle of radius 1 m to the left: left wheel on radius R - b/2, right on R + b/2.
   const double R = 1.0, angle = M_PI / 2;
   PoseIntegrator integ;
-  const Pose2 p = drive(integ, (R - kTrack / 2) * angle, (R + kTrack / 2) * angle, 100);
+  const Pose2D p = drive(integ, (R - kTrack / 2) * angle, (R + kTrack / 2) * angle, 100);
   // Tolerances: one tick is 50 um of wheel travel, 1.7e-4 rad of heading over the track.
   EXPECT_NEAR(p.x, R, 5e-4);
   EXPECT_NEAR(p.y, R, 5e-4);
   EXPECT_NEAR(p.theta, angle, 5e-4);
   // Coarse samples still land on the circle: the integrator follows exact arcs.
   PoseIntegrator coarse;
-  const Pose2 q = drive(coarse, (R - kTrack / 2) * angle, (R + kTrack / 2) * angle, 2);
+  const Pose2D q = drive(coarse, (R - kTrack / 2) * angle, (R + kTrack / 2) * angle, 2);
   EXPECT_NEAR(q.x, R, 5e-4);
   EXPECT_NEAR(q.y, R, 5e-4);
 }
@@ -129,7 +129,7 @@ TEST(Odometry, ArcEndsOnTheCircle) {
 TEST(Odometry, SpinInPlace) {
   PoseIntegrator integ;
   const double quarter = kTrack / 2 * M_PI / 2;  // each wheel's arc for a quarter turn
-  Pose2 p = drive(integ, -quarter, quarter, 50);
+  Pose2D p = drive(integ, -quarter, quarter, 50);
   EXPECT_NEAR(p.x, 0.0, 1e-6);
   EXPECT_NEAR(p.y, 0.0, 1e-6);
   EXPECT_NEAR(p.theta, M_PI / 2, 5e-4);

@@ -6,6 +6,14 @@
 
 namespace robot_core {
 
+// A pose in the plane: position [m] and heading [rad] (REP-103 yaw), in whatever frame the
+// holder says (map for the filter and the driver, the world for the simulator).
+struct Pose2D {
+  double x = 0.0;
+  double y = 0.0;
+  double theta = 0.0;
+};
+
 // An angle wrapped into (-pi, pi]. Cheap for an angle already in range, the common case.
 inline double wrapAngle(double a) {
   if (a > -M_PI && a <= M_PI) return a;
@@ -22,6 +30,25 @@ inline double yawFromQuaternion(double x, double y, double z, double w) {
 template <class Q>
 double yawOf(const Q& q) {
   return yawFromQuaternion(q.x, q.y, q.z, q.w);
+}
+
+// `a` composed with the increment `d` expressed in a's own frame.
+inline Pose2D compose(const Pose2D& a, const Pose2D& d) {
+  const double c = std::cos(a.theta), s = std::sin(a.theta);
+  return {a.x + c * d.x - s * d.y, a.y + s * d.x + c * d.y, wrapAngle(a.theta + d.theta)};
+}
+
+// The increment d such that compose(a, d) == b.
+inline Pose2D between(const Pose2D& a, const Pose2D& b) {
+  const double c = std::cos(a.theta), s = std::sin(a.theta);
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  return {c * dx + s * dy, -s * dx + c * dy, wrapAngle(b.theta - a.theta)};
+}
+
+// The pose p expressed the other way round: compose(p, inverse(p)) is the origin.
+inline Pose2D inverse(const Pose2D& p) {
+  const double c = std::cos(p.theta), s = std::sin(p.theta);
+  return {-c * p.x - s * p.y, s * p.x - c * p.y, wrapAngle(-p.theta)};
 }
 
 }  // namespace robot_core

@@ -53,9 +53,9 @@ void Opponent::step(double dt, const std::vector<Point2D>& ours, Rng& rng) {
   const Circle now{pose_.x, pose_.y, config_.radius};
   const double gap_next = circleContact(ours, me).clearance;
   const bool into_us = gap_next < 0.0 && gap_next < circleContact(ours, now).clearance;
-  const bool into_border = table_.borderClearance(next.x, next.y, config_.radius) < 0.0 &&
-                           table_.borderClearance(next.x, next.y, config_.radius) <
-                               table_.borderClearance(pose_.x, pose_.y, config_.radius);
+  const bool into_border = borderClearance(table_, next.x, next.y, config_.radius) < 0.0 &&
+                           borderClearance(table_, next.x, next.y, config_.radius) <
+                               borderClearance(table_, pose_.x, pose_.y, config_.radius);
   if (into_us || into_border) {
     // Wait for us to move; a random walker gives up on this target after a while.
     v_ = 0.0;

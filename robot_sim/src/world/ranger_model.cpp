@@ -12,14 +12,10 @@ double trueRange(const RangerConfig& r, const Pose2D& robot, const TableGeometry
   const double x = robot.x + c * r.mount.x - s * r.mount.y;
   const double y = robot.y + s * r.mount.x + c * r.mount.y;
   const double a = robot.theta + r.mount.theta;
-  // A fan of rays: 1 for a narrow infrared beam, up to 9 across an ultrasonic cone.
-  const int rays = r.beam_width < 0.1 ? 1 : std::min(9, 3 + 2 * static_cast<int>(r.beam_width / 0.2));
-  double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < rays; ++i) {
-    const double off = rays == 1 ? 0.0 : r.beam_width * (static_cast<double>(i) / (rays - 1) - 0.5);
-    best = std::min(best, table.rayCast(x, y, a + off, r.max_range, obstacles));
-  }
-  return best;
+  // The nearest echo anywhere in the cone, as the localization expects it; nothing beyond the
+  // sensor's range comes back.
+  const double range = table.coneRange(x, y, a, r.beam_width, obstacles);
+  return range <= r.max_range ? range : std::numeric_limits<double>::infinity();
 }
 
 double noisyRange(const RangerConfig& r, double true_range, Rng& rng) {

@@ -14,11 +14,7 @@ struct Point2D {
   double y = 0.0;
 };
 
-struct Pose2D {
-  double x = 0.0;
-  double y = 0.0;
-  double theta = 0.0;  // heading [rad]
-};
+using robot_core::Pose2D;
 
 // What a differential-drive base can be told: forward speed and turn rate (geometry_msgs/Twist
 // linear.x and angular.z). Wheel speeds are v -/+ w * track / 2.

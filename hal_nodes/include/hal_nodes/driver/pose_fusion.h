@@ -13,15 +13,8 @@
 namespace hal_nodes {
 namespace driver {
 
-inline Pose2D compose(const Pose2D& a, const Pose2D& b) {
-  const double c = std::cos(a.theta), s = std::sin(a.theta);
-  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrapAngle(a.theta + b.theta)};
-}
-
-inline Pose2D inverse(const Pose2D& p) {
-  const double c = std::cos(p.theta), s = std::sin(p.theta);
-  return {-c * p.x - s * p.y, s * p.x - c * p.y, wrapAngle(-p.theta)};
-}
+using robot_core::compose;
+using robot_core::inverse;
 
 class PoseFusion {
  public:

@@ -67,7 +67,7 @@ struct FilterConfig {
 bool parseResampling(const std::string& name, mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm* out);
 
 struct Estimate {
-  Pose2 pose;
+  Pose2D pose;
   std::array<double, 9> cov{};   // x, y, theta (row-major)
   // That the estimate is within quality_tolerance of the truth: P(the filter tracks the true
   // pose | the measurements' evidence) x the cloud's mass within quality_tolerance of the estimate.
@@ -90,9 +90,9 @@ class Filter : private ParticleSet::Hooks {
   void addSampler(std::shared_ptr<PoseSampler> sampler);
 
   // A Gaussian cloud around a known pose (start position, rviz /initialpose).
-  void setPose(const Pose2& pose, double std_xy, double std_theta);
+  void setPose(const Pose2D& pose, double std_xy, double std_theta);
   // A cloud uniform within +-half_xy, +-half_theta of a pose.
-  void setPoseUniform(const Pose2& pose, double half_xy, double half_theta);
+  void setPoseUniform(const Pose2D& pose, double half_xy, double half_theta);
   // Entirely lost: uniform over the free table, every heading; recovery from the sensors.
   void globalLocalization();
 

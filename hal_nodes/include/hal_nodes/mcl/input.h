@@ -72,7 +72,7 @@ class PoseSampler {
   // Whether the data now allows proposing poses.
   virtual bool canSample(const StepContext& ctx) const = 0;
   // A pose drawn from the data alone (heading may be drawn uniformly when unobserved).
-  virtual Pose2 sample(const StepContext& ctx) = 0;
+  virtual Pose2D sample(const StepContext& ctx) = 0;
 };
 
 }  // namespace hal_nodes::mcl

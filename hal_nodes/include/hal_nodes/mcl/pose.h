@@ -8,25 +8,9 @@
 
 namespace hal_nodes::mcl {
 
-struct Pose2 {
-  double x = 0.0;
-  double y = 0.0;
-  double theta = 0.0;
-};
-
+using robot_core::Pose2D;
 using robot_core::wrapAngle;  // (-pi, pi], cheap for the small overshoots the filter produces
-
-// `a` composed with the increment `d` expressed in a's own frame.
-inline Pose2 compose(const Pose2& a, const Pose2& d) {
-  const double c = std::cos(a.theta), s = std::sin(a.theta);
-  return {a.x + c * d.x - s * d.y, a.y + s * d.x + c * d.y, wrapAngle(a.theta + d.theta)};
-}
-
-// The increment d such that compose(a, d) == b.
-inline Pose2 between(const Pose2& a, const Pose2& b) {
-  const double c = std::cos(a.theta), s = std::sin(a.theta);
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  return {c * dx + s * dy, -s * dx + c * dy, wrapAngle(b.theta - a.theta)};
-}
+using robot_core::compose;    // a pose and an increment in its own frame
+using robot_core::between;    // the increment from one pose to another
 
 }  // namespace hal_nodes::mcl

@@ -70,7 +70,7 @@ namespace hal_nodes {
 
 namespace {
 
-using mcl::Pose2;
+using mcl::Pose2D;
 
 struct Payload {
   enum Kind { kOdom, kPair, kBeacon, kCompass, kRanger, kBumpers } kind = kOdom;
@@ -79,9 +79,9 @@ struct Payload {
   std::vector<std::string> closed;
 };
 
-Pose2 poseOf(const geometry_msgs::Pose& p) { return {p.position.x, p.position.y, tf2::getYaw(p.orientation)}; }
+Pose2D poseOf(const geometry_msgs::Pose& p) { return {p.position.x, p.position.y, tf2::getYaw(p.orientation)}; }
 
-geometry_msgs::Pose toMsg(const Pose2& p) {
+geometry_msgs::Pose toMsg(const Pose2D& p) {
   geometry_msgs::Pose m;
   m.position.x = p.x;
   m.position.y = p.y;
@@ -227,7 +227,7 @@ class LocalizationDevice : public Device {
     subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(odom_topic, 200, [this](const nav_msgs::Odometry::ConstPtr& m) {
       Payload p;
       p.kind = Payload::kOdom;
-      const Pose2 q = poseOf(m->pose.pose);
+      const Pose2D q = poseOf(m->pose.pose);
       p.a = q.x, p.b = q.y, p.c = q.theta;
       // The primary odometry goes after the pairs of the same stamp: it triggers the step.
       push(m->header.stamp, 1, std::move(p));
@@ -237,7 +237,7 @@ class LocalizationDevice : public Device {
         Payload p;
         p.kind = Payload::kPair;
         p.index = static_cast<int>(i);
-        const Pose2 q = poseOf(m->pose.pose);
+        const Pose2D q = poseOf(m->pose.pose);
         p.a = q.x, p.b = q.y, p.c = q.theta;
         push(m->header.stamp, 0, std::move(p));
       }));
@@ -477,7 +477,7 @@ class LocalizationDevice : public Device {
   bool apply(double stamp, const Payload& p) {
     switch (p.kind) {
       case Payload::kOdom: {
-        const Pose2 q{p.a, p.b, p.c};
+        const Pose2D q{p.a, p.b, p.c};
         if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.theta)) {
           ++bad_inputs_;
           return false;
@@ -489,7 +489,7 @@ class LocalizationDevice : public Device {
         return true;
       }
       case Payload::kPair: {
-        const Pose2 q{p.a, p.b, p.c};
+        const Pose2D q{p.a, p.b, p.c};
         if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.theta)) {
           ++bad_inputs_;
           return false;
@@ -515,7 +515,7 @@ class LocalizationDevice : public Device {
       ROS_WARN("%s: /initialpose in frame '%s' ignored: expected '%s'", name_.c_str(), m.header.frame_id.c_str(), map_frame_.c_str());
       return;
     }
-    const Pose2 p = poseOf(m.pose.pose);
+    const Pose2D p = poseOf(m.pose.pose);
     double sxy = std::sqrt(std::max(0.0, 0.5 * (m.pose.covariance[0] + m.pose.covariance[7])));
     double sth = std::sqrt(std::max(0.0, m.pose.covariance[35]));
     if (!(sxy > 0.0) || !std::isfinite(sxy)) sxy = 0.05;
@@ -548,8 +548,8 @@ class LocalizationDevice : public Device {
 
     if (publish_tf_ && have_odom_) {
       // map -> odom = estimate (map -> base) composed with the inverse of odom -> base at the same step.
-      const Pose2 inv_odom = mcl::between(odom_pose_, {0, 0, 0});
-      const Pose2 map_odom = mcl::compose(e.pose, inv_odom);
+      const Pose2D inv_odom = mcl::between(odom_pose_, {0, 0, 0});
+      const Pose2D map_odom = mcl::compose(e.pose, inv_odom);
       geometry_msgs::TransformStamped t;
       t.header.stamp = stamp + ros::Duration(tf_tolerance_);  // valid until the next step (as amcl)
       t.header.frame_id = map_frame_;
@@ -624,7 +624,7 @@ class LocalizationDevice : public Device {
   std::mutex stamp_mutex_;
   double newest_odom_ = -1e300, newest_any_ = 0.0;
   std::mutex filter_mutex_;
-  Pose2 odom_pose_;
+  Pose2D odom_pose_;
   bool have_odom_ = false;
   double last_step_ = 0.0, last_cloud_ = -1e300;
   double odom_stamp_ = 0.0, published_stamp_ = -1e300;  // the applied odometry's stamp; the last published

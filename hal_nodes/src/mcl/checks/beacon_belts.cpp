@@ -224,7 +224,7 @@ bool BeaconBelts::canSample(const StepContext& ctx) const {
   return !cand_.empty();
 }
 
-Pose2 BeaconBelts::sample(const StepContext& ctx) {
+Pose2D BeaconBelts::sample(const StepContext& ctx) {
   updateCandidates(ctx);
   Rng& rng = *ctx.rng;
   if (cand_.empty()) return table_->sampleFree(rng);

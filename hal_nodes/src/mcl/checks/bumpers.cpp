@@ -36,11 +36,11 @@ bool Bumpers::ready(const StepContext& ctx) const {
   return changed_ || ctx.now - last_applied_ >= opts_.min_interval;
 }
 
-double Bumpers::likelihood(const Pose2& pose) const {
+double Bumpers::likelihood(const Pose2D& pose) const {
   double p = 1.0;
   for (std::size_t k : closed_) {
-    const Pose2 contact = compose(pose, {bumpers_[k].x, bumpers_[k].y, 0.0});
-    const double d = std::max(0.0, table_->distanceToEdge(contact.x, contact.y) - opts_.tolerance);
+    const Pose2D contact = compose(pose, {bumpers_[k].x, bumpers_[k].y, 0.0});
+    const double d = std::max(0.0, table_->geometry().distanceToEdge(contact.x, contact.y) - opts_.tolerance);
     p *= (1.0 - opts_.other_probability) * std::exp(-0.5 * d * d / (opts_.std * opts_.std)) + opts_.other_probability;
   }
   return p;

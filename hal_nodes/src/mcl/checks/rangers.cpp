@@ -52,10 +52,11 @@ void Rangers::clear() {
   for (auto& s : rangers_) s.pending = false;
 }
 
-double Rangers::likelihood(std::size_t k, const Pose2& pose, double range, double beam_width) const {
+double Rangers::likelihood(std::size_t k, const Pose2D& pose, double range, double beam_width) const {
   const RangerConfig& c = rangers_.at(k).cfg;
-  const Pose2 sensor = compose(pose, {c.x, c.y, c.yaw});
-  const double expected = table_->coneRange(sensor.x, sensor.y, sensor.theta, beam_width, c.max_range);
+  const Pose2D sensor = compose(pose, {c.x, c.y, c.yaw});
+  const double expected =
+      std::min(table_->geometry().coneRange(sensor.x, sensor.y, sensor.theta, beam_width), c.max_range);
   if (range >= c.max_range * 0.999) return expected >= c.max_range * 0.999 ? 1.0 - c.short_probability : c.miss_probability;
   if (range <= c.min_range * 1.001) {  // "min_range or nearer": the chance the true distance is below it
     const double below = 0.5 * std::erfc((expected - c.min_range) / (c.std * std::sqrt(2.0)));

@@ -18,7 +18,7 @@ void MotionModel::validate() const {
     throw std::invalid_argument("slip_probability = " + std::to_string(slip_probability) + ": must be in [0, 1]");
 }
 
-void MotionModel::apply(ParticleSet& set, const Pose2& d, Rng& rng, bool slipping) const {
+void MotionModel::apply(ParticleSet& set, const Pose2D& d, Rng& rng, bool slipping) const {
   const double ads = std::hypot(d.x, d.y), adt = std::fabs(d.theta);
   const double s_trans = trans_per_trans * ads + trans_per_rot * adt;
   const double s_lat = lateral_per_trans * ads;

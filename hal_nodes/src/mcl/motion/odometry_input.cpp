@@ -25,7 +25,7 @@ std::size_t OdometryInput::pairIndex(const std::string& name) const {
   throw std::out_of_range("odometry: no encoder pair named '" + name + "'");
 }
 
-void OdometryInput::addPose(std::size_t pair, const Pose2& odom_pose, double stamp) {
+void OdometryInput::addPose(std::size_t pair, const Pose2D& odom_pose, double stamp) {
   State& s = pairs_.at(pair);
   if (!s.has_ref) {
     s.ref = odom_pose;
@@ -37,15 +37,15 @@ void OdometryInput::addPose(std::size_t pair, const Pose2& odom_pose, double sta
   s.ref = odom_pose;
 }
 
-void OdometryInput::addIncrement(std::size_t pair, const Pose2& delta, double stamp) {
+void OdometryInput::addIncrement(std::size_t pair, const Pose2D& delta, double stamp) {
   State& s = pairs_.at(pair);
-  Pose2 d = delta;
+  Pose2D d = delta;
   detectSlip(s, d, stamp);
   s.delta = s.moved ? compose(s.delta, d) : d;
   s.moved = true;
 }
 
-void OdometryInput::detectSlip(State& s, Pose2& delta, double stamp) {
+void OdometryInput::detectSlip(State& s, Pose2D& delta, double stamp) {
   double dt = stamp - s.stamp;  // NaN when either is unknown
   if (!std::isnan(stamp)) s.stamp = stamp;
   if (!(model_.slip_accel > 0.0) || !(dt > 0.0)) return;
@@ -79,13 +79,13 @@ void OdometryInput::detectSlip(State& s, Pose2& delta, double stamp) {
   s.speed = delta.x / dt;
 }
 
-Pose2 OdometryInput::pending() const {
+Pose2D OdometryInput::pending() const {
   // Reliability-weighted average of the pairs that moved (headings are small increments); a
   // slipping pair is outvoted by any pair that moved without slipping.
   bool any_sound = false;
   for (const auto& s : pairs_) any_sound |= s.moved && !s.slipped;
   double wsum = 0.0;
-  Pose2 d{0, 0, 0};
+  Pose2D d{0, 0, 0};
   for (const auto& s : pairs_) {
     if (!s.moved || (any_sound && s.slipped)) continue;
     wsum += s.cfg.reliability;
@@ -104,7 +104,7 @@ void OdometryInput::advance(ParticleSet& set, const StepContext& ctx) {
     if (s.moved) all_slipped &= s.slipped;
   }
   if (!any) return;
-  const Pose2 d = pending();
+  const Pose2D d = pending();
   for (auto& s : pairs_) {
     s.moved = false;
     s.slipped = false;

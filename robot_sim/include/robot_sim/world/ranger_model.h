@@ -1,5 +1,5 @@
 // SRF02 (ultrasonic, wide cone) and SHARP (infrared, narrow beam) rangers: the nearest
-// obstacle within the beam, found by a fan of rays across the beam width, with Gaussian
+// obstacle point anywhere in the beam (exact, robot_core::TableGeometry::coneRange), with Gaussian
 // noise growing with range. Nothing within max_range reads +inf (REP-117 "no return").
 #pragma once
 

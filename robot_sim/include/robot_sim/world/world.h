@@ -8,17 +8,15 @@
 // (origin at a table corner, x along the 3 m side).
 #pragma once
 
+#include <robot_core/geometry.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace robot_sim {
 
-struct Pose2D {
-  double x = 0.0;
-  double y = 0.0;
-  double theta = 0.0;
-};
+using robot_core::Pose2D;
 
 // One beacon receiver measurement: the receiver reports a time difference per beacon.
 struct BeaconMeasurement {

@@ -2,39 +2,14 @@
 
 The SHARPs and SRF02s see the table's borders as well as the opponent; a robot in its start
 zone or near a wall would otherwise stop for a wall forever. From the sensor's pose in `map`
-(tf: map -> the Range message's frame) the distance to the border is taken over rays across
-the sensor's cone; an echo at least that far (less `tolerance`) is the border. The pose is
+(tf: map -> the Range message's frame) the distance to the nearest border point in the sensor's
+cone is robot_core's exact cone range, the one the driver and the localization use; an echo at
+least that far (less `tolerance`) is the border. The pose is
 the one at the reading's stamp (when the sensor measured), the latest if tf has none there.
 Without a pose (no tf yet) nothing is explained away: an unknown echo still stops the robot.
 """
-import math
-
 from robot_core.geometry import yaw_of
-
-
-def ray_to_border(x, y, heading, length, width):
-    """Distance from (x, y) inside the [0, length] x [0, width] table to its border along heading."""
-    c, s = math.cos(heading), math.sin(heading)
-    best = math.inf
-    if c > 1e-9:
-        best = min(best, (length - x) / c)
-    elif c < -1e-9:
-        best = min(best, -x / c)
-    if s > 1e-9:
-        best = min(best, (width - y) / s)
-    elif s < -1e-9:
-        best = min(best, -y / s)
-    return max(0.0, best)
-
-
-def border_distance(x, y, heading, field_of_view, length, width, rays=9):
-    """Nearest border distance over `rays` rays spread across the cone."""
-    if not (0.0 <= x <= length and 0.0 <= y <= width):
-        return 0.0
-    if rays < 2 or field_of_view <= 0.0:
-        return ray_to_border(x, y, heading, length, width)
-    return min(ray_to_border(x, y, heading - field_of_view / 2 + i * field_of_view / (rays - 1), length, width)
-               for i in range(rays))
+from robot_core.table_geometry import TableGeometry
 
 
 class BorderEcho(object):
@@ -45,7 +20,8 @@ class BorderEcho(object):
         stop take 100 ms)."""
         import tf2_ros
         import rospy
-        self.length, self.width, self.tolerance = float(length), float(width), float(tolerance)
+        self.table = TableGeometry(length, width)
+        self.tolerance = float(tolerance)
         self.map_frame, self.odom_frame = map_frame, odom_frame
         self._timeout = rospy.Duration(tf_timeout)
         if buffer is None:
@@ -87,6 +63,6 @@ class BorderEcho(object):
             return False
         q = t.transform.rotation
         heading = yaw_of(q)
-        d = border_distance(t.transform.translation.x, t.transform.translation.y, heading, msg.field_of_view,
-                            self.length, self.width)
+        d = self.table.cone_range(t.transform.translation.x, t.transform.translation.y, heading,
+                                  msg.field_of_view)
         return msg.range >= d - self.tolerance

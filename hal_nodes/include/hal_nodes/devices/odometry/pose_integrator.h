@@ -8,11 +8,7 @@
 
 namespace hal_nodes {
 
-struct Pose2 {
-  double x = 0.0;
-  double y = 0.0;
-  double theta = 0.0;  // [rad], -pi..pi
-};
+using robot_core::Pose2D;
 
 // One odometry step: distance travelled by the wheel axis centre and heading change, with
 // the variances of both (independent).
@@ -27,14 +23,14 @@ class PoseIntegrator {
  public:
   PoseIntegrator() { cov_.setZero(); }
   void add(const OdometryIncrement& inc);
-  void reset(const Pose2& pose = Pose2());
+  void reset(const Pose2D& pose = Pose2D());
 
-  const Pose2& pose() const { return pose_; }
+  const Pose2D& pose() const { return pose_; }
   const Eigen::Matrix3d& covariance() const { return cov_; }  // over (x, y, theta)
   double distance() const { return distance_; }                  // total |ds| [m]
 
  private:
-  Pose2 pose_;
+  Pose2D pose_;
   Eigen::Matrix3d cov_;
   double distance_ = 0.0;
 };

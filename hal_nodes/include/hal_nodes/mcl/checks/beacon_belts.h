@@ -68,7 +68,7 @@ class BeaconBelts : public CheckingInput, public PoseSampler {
 
   // ---- PoseSampler: trilateration from the recent ranges ----
   bool canSample(const StepContext& ctx) const override;
-  Pose2 sample(const StepContext& ctx) override;
+  Pose2D sample(const StepContext& ctx) override;
 
   // Intersections of the belts of beacons i and j inside the table (0, 1 or 2 points).
   int intersections(int i, int j, double ri, double rj, double out[2][2]) const;

@@ -37,7 +37,7 @@ class Bumpers : public CheckingInput {
   bool ready(const StepContext& ctx) const override;
   void check(ParticleSet& set, const StepContext& ctx) override;
   void clear() override { closed_.clear(); }
-  double likelihood(const Pose2& pose) const;  // of the current closed set (tests)
+  double likelihood(const Pose2D& pose) const;  // of the current closed set (tests)
 
  private:
   std::vector<BumperConfig> bumpers_;

@@ -1,6 +1,6 @@
 // Range finders (SRF02 sonars, infrared) as a checking input, measured against the table
 // borders and fixed obstacles of the table model. For each ranger with a new reading r:
-//   expected e = the nearest edge inside the ranger's cone (TableModel::coneRange) from the
+//   expected e = the nearest edge inside the ranger's cone (robot_core::TableGeometry::coneRange) from the
 //   ranger's pose (mounting pose on the robot composed with the particle), capped at max_range.
 //   The cone is the configured beam_width, or the reading's own (sensor_msgs/Range
 //   field_of_view) when beam_width < 0. A sonar answers with its nearest echo anywhere in its
@@ -45,7 +45,7 @@ class Rangers : public CheckingInput {
   void check(ParticleSet& set, const StepContext& ctx) override;
   void clear() override;
   // The likelihood of one reading from one pose (exposed for tests).
-  double likelihood(std::size_t ranger, const Pose2& pose, double range, double beam_width = 0.0) const;
+  double likelihood(std::size_t ranger, const Pose2D& pose, double range, double beam_width = 0.0) const;
 
  private:
   struct State {

@@ -6,52 +6,42 @@
 // against its borders.
 #pragma once
 
+#include <robot_core/table_geometry.h>
+
 #include <vector>
 
 #include "hal_nodes/mcl/input.h"
 
 namespace hal_nodes::mcl {
 
-struct Rect {
-  double x0, y0, x1, y1;  // axis-aligned, x0 < x1, y0 < y1 [m]
-};
+using robot_core::Rect;
 
 class TableModel : public CheckingInput {
  public:
   // length along x, width along y [m]; margin: the robot's radius [m].
   TableModel(double length, double width, double margin = 0.0, std::vector<Rect> obstacles = {});
 
-  double length() const { return length_; }
-  double width() const { return width_; }
+  double length() const { return geometry_.length(); }
+  double width() const { return geometry_.width(); }
   double margin() const { return margin_; }
-  const std::vector<Rect>& obstacles() const { return obstacles_; }
+  const std::vector<Rect>& obstacles() const { return geometry_.blocks(); }
+  // The raw table (no margin): what the rangers and bumpers measure against.
+  const robot_core::TableGeometry& geometry() const { return geometry_; }
 
   // Whether the robot's centre may be at (x, y).
   bool isFree(double x, double y) const;
   // The nearest free position (the point itself when free).
   void project(double& x, double& y) const;
   // A uniform free pose, all headings (rejection sampling).
-  Pose2 sampleFree(Rng& rng) const;
-  // Distance from (x, y) along direction `angle` to the first border or obstacle (raw
-  // geometry, no margin); 0 if (x, y) is already outside the table or inside an obstacle.
-  double rayCast(double x, double y, double angle, double max_range) const;
-  // Distance from (x, y) to the nearest border or obstacle point inside the cone of full width
-  // `beam_width` around `angle`: the first echo of a sonar (its cone, not its centre line);
-  // beam_width 0 is rayCast. Exact: on each edge the nearest point of the cone lies at the
-  // foot of the perpendicular, at a corner, or where a cone edge crosses it.
-  double coneRange(double x, double y, double angle, double beam_width, double max_range) const;
-  // Distance from (x, y) to the nearest border or obstacle edge (raw geometry, no margin);
-  // 0 when outside the table or inside an obstacle.
-  double distanceToEdge(double x, double y) const;
-
+  Pose2D sampleFree(Rng& rng) const;
   // ---- CheckingInput: applied at every step ----
   bool ready(const StepContext&) const override { return true; }
   void check(ParticleSet& set, const StepContext& ctx) override;
 
  private:
+  robot_core::TableGeometry geometry_;
   double length_, width_, margin_;
-  std::vector<Rect> obstacles_;  // raw
-  std::vector<Rect> inflated_;   // by the margin, for isFree
+  std::vector<Rect> inflated_;  // the blocks grown by the margin, for isFree
 };
 
 }  // namespace hal_nodes::mcl

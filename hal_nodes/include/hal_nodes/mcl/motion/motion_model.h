@@ -38,7 +38,7 @@ struct MotionModel {
   // Apply the increment `d` (robot frame) with per-particle noise.
   // `slipping`: the increment is known to come from a slip (detected by the odometry): every
   // particle gets the slip's heading noise instead of a slip_probability share of them.
-  void apply(ParticleSet& set, const Pose2& d, Rng& rng, bool slipping = false) const;
+  void apply(ParticleSet& set, const Pose2D& d, Rng& rng, bool slipping = false) const;
 };
 
 }  // namespace hal_nodes::mcl

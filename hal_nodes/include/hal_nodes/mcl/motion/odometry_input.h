@@ -34,11 +34,11 @@ class OdometryInput : public AdvancingInput {
   std::size_t pairCount() const { return pairs_.size(); }
   // Feed a pair's newest pose (its own odom frame); the first call only sets the reference.
   // `stamp` [s] is the pose's time (NaN: unknown, no slip detection for this increment).
-  void addPose(std::size_t pair, const Pose2& odom_pose, double stamp = kNoStamp);
+  void addPose(std::size_t pair, const Pose2D& odom_pose, double stamp = kNoStamp);
   // Feed a pair's increment directly (robot frame), e.g. from a recorded run.
-  void addIncrement(std::size_t pair, const Pose2& delta, double stamp = kNoStamp);
+  void addIncrement(std::size_t pair, const Pose2D& delta, double stamp = kNoStamp);
   // The combined increment waiting to be applied (zero if none).
-  Pose2 pending() const;
+  Pose2D pending() const;
   void advance(ParticleSet& set, const StepContext& ctx) override;
   const MotionModel& model() const { return model_; }
   // Increments found slipping so far, all pairs.
@@ -50,8 +50,8 @@ class OdometryInput : public AdvancingInput {
   struct State {
     Pair cfg;
     bool has_ref = false;
-    Pose2 ref;
-    Pose2 delta;   // accumulated since the last advance, robot frame at the last advance
+    Pose2D ref;
+    Pose2D delta;   // accumulated since the last advance, robot frame at the last advance
     bool moved = false;
     bool slipped = false;  // some increment since the last advance was cut as a slip
     double stamp = kNoStamp;
@@ -60,7 +60,7 @@ class OdometryInput : public AdvancingInput {
     double period = kNoStamp;        // usual time between increments (running mean) [s]
   };
   // Cut an increment the robot cannot have made to its last speed (see above).
-  void detectSlip(State& s, Pose2& delta, double stamp);
+  void detectSlip(State& s, Pose2D& delta, double stamp);
   std::vector<State> pairs_;
   MotionModel model_;
   std::size_t slips_ = 0;
