@@ -12,10 +12,7 @@ import math
 
 import numpy as np
 import rosbag
-
-
-def yaw(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+from robot_core.geometry import yaw_of
 
 
 def main():
@@ -31,7 +28,7 @@ def main():
         for topic, m, _ in b.read_messages([a.reference, a.compass]):
             if topic == a.reference:
                 tt.append(m.header.stamp.to_sec())
-                ty.append(yaw(m.pose.pose.orientation))
+                ty.append(yaw_of(m.pose.pose.orientation))
                 tw.append(abs(m.twist.twist.angular.z))
             else:
                 hs.append((m.header.stamp.to_sec(), m.yaw))

@@ -32,6 +32,7 @@ import matplotlib
 matplotlib.use('Agg')  # headless: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 import rosbag  # noqa: E402
+from robot_core.geometry import yaw_of  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from idle_time import IDLE_LIMIT, idle_stretches, too_long  # noqa: E402
@@ -47,10 +48,6 @@ STATUS_NAMES = {0: 'PENDING', 1: 'ACTIVE', 2: 'PREEMPTED', 3: 'SUCCEEDED', 4: 'A
 STATUS_COLOURS = {'SUCCEEDED': '#2e7d32', 'ABORTED': '#d32f2f', 'PREEMPTED': '#ef6c00', 'REJECTED': '#6a1b9a',
                   'RECALLED': '#8d6e63', 'LOST': '#000000', 'no result': '#9e9e9e'}
 X_LABEL = 'match time [s] (0 = start signal)'
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def pose_of(msg):

@@ -1,0 +1,40 @@
+// What the Localization device publishes after a filter step: /mcl/pose, /mcl/quality, tf
+// map -> odom (REP-105), and at ~cloud_rate the particle cloud and the beacon belts for rviz.
+#pragma once
+
+#include <geometry_msgs/Pose.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "hal_nodes/mcl/mcl.h"
+#include "localization_config.h"
+
+namespace hal_nodes {
+namespace localization {
+
+class LocalizationOutputs {
+ public:
+  LocalizationOutputs(ros::NodeHandle& nh, const LocalizationConfig& config);
+
+  // The filter's estimate at `at` (the applied odometry's stamp). `odom_pose`: odom -> base_link
+  // at that step, for map -> odom (none: no tf). `beacons` may be null; `last_step` dates the belts.
+  void publish(double at, const mcl::Filter& filter, const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons,
+               double last_step);
+
+ private:
+  // One circle per beacon whose latest range is recent: the belt the particles are weighed by.
+  void publishBelts(const ros::Time& stamp, const mcl::BeaconBelts& beacons, double last_step);
+
+  std::string map_frame_, odom_frame_;
+  bool publish_tf_;
+  double tf_tolerance_, cloud_period_;
+  double last_cloud_ = -1e300;
+  ros::Publisher pose_pub_, quality_pub_, cloud_pub_, belts_pub_;
+  tf2_ros::TransformBroadcaster tf_;
+};
+
+// A planar pose as a geometry_msgs/Pose (z = 0, yaw only).
+geometry_msgs::Pose toMsg(const mcl::Pose2D& p);
+
+}  // namespace localization
+}  // namespace hal_nodes
