@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
-# Runs one libFuzzer target for a few seconds and writes a JUnit result for catkin_test_results.
+# Runs one libFuzzer target for a few seconds from a fixed seed and writes a JUnit result for
+# catkin_test_results (a crash is a failed test case; the script itself exits 0).
 #   run_fuzz.sh <fuzzer binary> <junit xml> <seconds>
+# Inputs in fuzz/seeds/<fuzzer name>/, when there are any, start its corpus.
 set -u
 bin=$1; xml=$2; secs=${3:-5}
 name=$(basename "$bin")
 mkdir -p "$(dirname "$xml")"
 work=$(mktemp -d)
+seeds="$(dirname "$0")/seeds/$name"
+[ -d "$seeds" ] && cp "$seeds"/* "$work/" 2>/dev/null
 start=$(date +%s%N)
-"$bin" -max_total_time="$secs" -max_len=256 -timeout=5 -rss_limit_mb=1024 -print_final_stats=1 \
+"$bin" -seed=1 -max_total_time="$secs" -max_len=256 -timeout=5 -rss_limit_mb=1024 -print_final_stats=1 \
   -artifact_prefix="$work/" "$work" > "$work/log.txt" 2>&1
 rc=$?
 ms=$(( ($(date +%s%N) - start) / 1000000 ))

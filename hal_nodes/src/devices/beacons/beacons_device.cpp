@@ -28,7 +28,7 @@
 
 #include "hal_nodes/device_nodelet.h"
 #include "hal_nodes/devices/beacons/beacon_equation.h"
-#include "hal_nodes/devices/config_blocks.h"
+#include <robot_core/parameter_blocks.h>
 
 namespace hal_nodes {
 

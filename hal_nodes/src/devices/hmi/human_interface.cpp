@@ -25,7 +25,7 @@
 #include <map>
 
 #include "hal_nodes/device_nodelet.h"
-#include "hal_nodes/devices/config_blocks.h"
+#include <robot_core/parameter_blocks.h>
 #include "hal_nodes/devices/contact_input.h"
 
 namespace hal_nodes {

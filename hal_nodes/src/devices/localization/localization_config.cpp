@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "hal_nodes/devices/config_blocks.h"
+#include <robot_core/parameter_blocks.h>
 
 namespace hal_nodes {
 namespace localization {

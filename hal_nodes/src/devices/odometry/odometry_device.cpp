@@ -30,7 +30,7 @@
 #include <sstream>
 
 #include "hal_nodes/device_nodelet.h"
-#include "hal_nodes/devices/config_blocks.h"
+#include <robot_core/parameter_blocks.h>
 #include "hal_nodes/devices/odometry/encoder_tracker.h"
 #include "hal_nodes/devices/odometry/wheel_pair.h"
 

@@ -17,7 +17,7 @@
 #include <cmath>
 
 #include "hal_nodes/device_nodelet.h"
-#include "hal_nodes/devices/config_blocks.h"
+#include <robot_core/parameter_blocks.h>
 #include "hal_nodes/devices/rangers/range_filter.h"
 
 namespace hal_nodes {

@@ -6,12 +6,17 @@
 // protocol documentation, never by calling the driver's encoder: a shared bug would hide.
 #pragma once
 
+#include <robot_core/parameter_blocks.h>
+#include <robot_core/parameters.h>
 #include <ros/ros.h>
 
 #include <atomic>
 #include <string>
 
 namespace robot_sim {
+
+// Emulators read their parameters as boards and devices do: strictly, naming the parameter.
+using namespace robot_core::parameter_reader;
 
 class World;  // the simulated world (robot_sim/world), absent for world-less emulators
 
@@ -26,7 +31,8 @@ class Firmware {
  public:
   virtual ~Firmware() = default;
 
-  // Open the channel and start answering. Throw std::runtime_error on bad parameters.
+  // Open the channel and start answering. Throw std::runtime_error (a ParameterError is one) on
+  // bad parameters.
   virtual void start(FirmwareContext& ctx) = 0;
   // Stop answering and close the channel.
   virtual void stop() = 0;

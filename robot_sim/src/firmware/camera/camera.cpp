@@ -39,18 +39,18 @@ class CameraFirmware : public Firmware {
     int port = 0;
     if (!ctx.pnh.getParam("port", port) || port <= 0 || port > 65535)
       throw std::runtime_error("parameter " + ctx.pnh.resolveName("port") + " must be a TCP port 1..65535");
-    ctx.pnh.param("fps", fps_, 10.0);
+    fps_ = optionalDouble(ctx.pnh, "fps", 10.0);
     if (!(fps_ > 0 && fps_ <= 60)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("fps") + " must be in (0, 60]");
-    ctx.pnh.param<std::string>("mount", model_.mount, "top");
+    model_.mount = optionalString(ctx.pnh, "mount", "top");
     if (model_.mount != "top" && model_.mount != "front")
       throw std::runtime_error("parameter " + ctx.pnh.resolveName("mount") + " = '" + model_.mount + "': allowed values: top, front");
-    ctx.pnh.param("width", model_.width, 320);
-    ctx.pnh.param("height", model_.height, 240);
-    ctx.pnh.param("x", model_.x, model_.x);
-    ctx.pnh.param("z", model_.z, model_.z);
-    ctx.pnh.param("pitch", model_.pitch, model_.pitch);
-    ctx.pnh.param("hfov", model_.hfov, model_.hfov);
-    ctx.pnh.param("quality", quality_, 85);
+    model_.width = optionalInt(ctx.pnh, "width", 320);
+    model_.height = optionalInt(ctx.pnh, "height", 240);
+    model_.x = optionalDouble(ctx.pnh, "x", model_.x);
+    model_.z = optionalDouble(ctx.pnh, "z", model_.z);
+    model_.pitch = optionalDouble(ctx.pnh, "pitch", model_.pitch);
+    model_.hfov = optionalDouble(ctx.pnh, "hfov", model_.hfov);
+    quality_ = optionalInt(ctx.pnh, "quality", 85);
     if (model_.width < 16 || model_.height < 16 || model_.width > 4096 || model_.height > 4096)
       throw std::runtime_error("parameters " + ctx.pnh.resolveName("width") + "/height must be 16..4096");
 

@@ -43,9 +43,9 @@ void CanopenFirmware::start(FirmwareContext& ctx) {
   if (!world_) {
     double tps = 4000.0, range = 0.35;
     std::vector<std::string> closed;
-    ctx.pnh.param("bench_ticks_per_s", tps, tps);
-    ctx.pnh.param("bench_range", range, range);
-    ctx.pnh.param("bench_closed", closed, closed);
+    tps = optionalDouble(ctx.pnh, "bench_ticks_per_s", tps);
+    range = optionalDouble(ctx.pnh, "bench_range", range);
+    closed = optionalStringList(ctx.pnh, "bench_closed", closed);
     bench_world_ = std::make_unique<BenchWorld>(tps, range, closed);
     world_ = bench_world_.get();
   }

@@ -22,12 +22,13 @@ class EposFirmware : public CanopenFirmware {
                           kOperationEnabled = 0x0237, kFault = 0x0208 };
 
   void setupBoard(FirmwareContext& ctx) override {
-    if (!ctx.pnh.getParam("motor", motor_)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("motor") + ": required");
-    ctx.pnh.param("encoder", encoder_, motor_);
-    ctx.pnh.param("nominal_rpm", nominal_rpm_, 8000.0);
-    ctx.pnh.param("counts_per_rev", counts_per_rev_, 2000.0);
-    int fb = 0x280 + nodeId();
-    ctx.pnh.param("feedback_cob_id", fb, fb);
+    motor_ = requireString(ctx.pnh, "motor");
+    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
+    nominal_rpm_ = optionalDouble(ctx.pnh, "nominal_rpm", 8000.0);
+    requirePositive(ctx.pnh, "nominal_rpm", nominal_rpm_);
+    counts_per_rev_ = optionalDouble(ctx.pnh, "counts_per_rev", 2000.0);
+    requirePositive(ctx.pnh, "counts_per_rev", counts_per_rev_);
+    const int fb = optionalInt(ctx.pnh, "feedback_cob_id", 0x280 + nodeId());
     feedback_cob_ = static_cast<uint32_t>(fb);
     if ((feedback_cob_ & 0x7F) != nodeId()) addExtraCobId(feedback_cob_);
     addObject(0x6060, 0, {1, [this] { return static_cast<uint32_t>(static_cast<uint8_t>(mode_)); }, [this](uint32_t v) {

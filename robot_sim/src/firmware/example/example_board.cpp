@@ -35,7 +35,8 @@ class ExampleBoardFirmware : public Firmware {
     const auto colon = hostport.rfind(':');
     if (colon == std::string::npos) throw std::runtime_error("parameter endpoint '" + url + "' has no port");
     const int port = std::atoi(hostport.substr(colon + 1).c_str());
-    ctx.pnh.param("dial_period", dial_period_, 8.0);
+    dial_period_ = optionalDouble(ctx.pnh, "dial_period", 8.0);
+    requirePositive(ctx.pnh, "dial_period", dial_period_);
     if (!(dial_period_ > 0.0)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("dial_period") + " must be > 0");
 
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);

@@ -26,9 +26,10 @@ class HBMotorFirmware : public RegisterChip {
 
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    ctx.pnh.param<std::string>("motor", motor_, "");
-    ctx.pnh.param<std::string>("encoder", encoder_, motor_);
-    ctx.pnh.param("ticks_per_second", ticks_per_second_, 2000.0);
+    motor_ = optionalString(ctx.pnh, "motor", "");
+    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
+    ticks_per_second_ = optionalDouble(ctx.pnh, "ticks_per_second", 2000.0);
+    requirePositive(ctx.pnh, "ticks_per_second", ticks_per_second_);
     if (world_ && (motor_.empty() || !world_->has("motor", motor_)))
       throw std::runtime_error("parameter " + ctx.pnh.resolveName("motor") + " = '" + motor_ + "': no such motor in the world");
     if (world_ && !encoder_.empty() && !world_->has("encoder", encoder_))

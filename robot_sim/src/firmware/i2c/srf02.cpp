@@ -25,8 +25,9 @@ class SRF02Firmware : public RegisterChip {
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
     pnh_ = ctx.pnh;
-    ctx.pnh.param<std::string>("ranger", ranger_, "");
-    ctx.pnh.param("conversion_time", conversion_, 0.065);
+    ranger_ = optionalString(ctx.pnh, "ranger", "");
+    conversion_ = optionalDouble(ctx.pnh, "conversion_time", 0.065);
+    requirePositive(ctx.pnh, "conversion_time", conversion_);
     if (world_ && (ranger_.empty() || !world_->has("ranger", ranger_)))
       throw std::runtime_error("parameter " + ctx.pnh.resolveName("ranger") + " = '" + ranger_ + "': no such ranger in the world");
     truth_pub_ = ctx.nh.advertise<std_msgs::Float64>("/sim/" + ctx.name + "/range", 10, true);

@@ -35,9 +35,8 @@ class JoystickFirmware : public Firmware {
   void start(FirmwareContext& ctx) override {
     if (!ctx.pnh.getParam("device", path_) || path_.empty() || path_[0] != '/')
       throw std::runtime_error("parameter " + ctx.pnh.resolveName("device") + " must be an absolute path for the FIFO");
-    int axes = 6, buttons = 12;
-    ctx.pnh.param("axes", axes, 6);
-    ctx.pnh.param("buttons", buttons, 12);
+    const int axes = optionalInt(ctx.pnh, "axes", 6);
+    const int buttons = optionalInt(ctx.pnh, "buttons", 12);
     if (axes < 0 || axes > 64 || buttons < 0 || buttons > 128)
       throw std::runtime_error("parameters " + ctx.pnh.resolveName("axes") + " (0..64) / buttons (0..128) out of range");
     axes_.assign(axes, 0);

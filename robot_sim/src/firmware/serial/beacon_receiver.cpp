@@ -44,14 +44,14 @@ class BeaconReceiverFirmware : public Firmware {
     world_ = ctx.world;
     if (!ctx.pnh.getParam("port", link_) || link_.empty() || link_[0] != '/')
       throw std::runtime_error("parameter " + ctx.pnh.resolveName("port") + " must be an absolute path for the pty link");
-    ctx.pnh.param("period", period_, 0.05);
-    if (!(period_ > 0.0)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("period") + " must be > 0");
-    ctx.pnh.param("base_delta_us", base_, std::vector<int>{3000, 4500, 6000});
+    period_ = optionalDouble(ctx.pnh, "period", 0.05);
+    requirePositive(ctx.pnh, "period", period_);
+    base_.clear();
+    for (double us : optionalDoubleList(ctx.pnh, "base_delta_us", {3000, 4500, 6000})) base_.push_back(static_cast<int>(us));
     if (base_.empty()) throw std::runtime_error("parameter " + ctx.pnh.resolveName("base_delta_us") + " must not be empty");
-    ctx.pnh.param("garbage_every", garbage_every_, 0);
-    ctx.pnh.param("truncate_every", truncate_every_, 0);
-    int seed = 1;
-    ctx.pnh.param("seed", seed, 1);
+    garbage_every_ = optionalInt(ctx.pnh, "garbage_every", 0);
+    truncate_every_ = optionalInt(ctx.pnh, "truncate_every", 0);
+    const int seed = optionalInt(ctx.pnh, "seed", 1);
     rng_.seed(static_cast<unsigned>(seed));
 
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);

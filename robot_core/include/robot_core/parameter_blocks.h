@@ -3,13 +3,14 @@
 // ParameterError lines naming the parameter, like every other parameter of the project.
 #pragma once
 
-#include <robot_core/parameters.h>
+#include "robot_core/parameters.h"
 #include <ros/ros.h>
 
 #include <string>
 #include <vector>
 
-namespace hal_nodes {
+namespace robot_core {
+inline namespace parameter_reader {
 
 // Names of the sub-blocks (dictionaries) under ~<name>; throws when missing, not a
 // dictionary, empty, or when an entry is not a dictionary itself.
@@ -29,4 +30,5 @@ std::vector<std::pair<std::string, int>> optionalIntMap(const ros::NodeHandle& p
 std::vector<std::string> optionalStringList(const ros::NodeHandle& pnh, const std::string& name,
                                             const std::vector<std::string>& fallback);
 
-}  // namespace hal_nodes
+}  // namespace parameter_reader
+}  // namespace robot_core

@@ -1,9 +1,7 @@
-#include "hal_nodes/devices/config_blocks.h"
+#include "robot_core/parameter_blocks.h"
 
-namespace hal_nodes {
-
-using robot_core::ParameterError;
-using robot_core::qualified;
+namespace robot_core {
+inline namespace parameter_reader {
 
 std::vector<std::string> optionalBlockNames(const ros::NodeHandle& pnh, const std::string& name) {
   std::vector<std::string> out;
@@ -70,4 +68,5 @@ std::vector<std::string> optionalStringList(const ros::NodeHandle& pnh, const st
   return out;
 }
 
-}  // namespace hal_nodes
+}  // namespace parameter_reader
+}  // namespace robot_core
