@@ -110,6 +110,38 @@ Params Params::operator[](const std::string& name) const {
   return Params(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
 }
 
+Params Params::block(const std::string& name) const {
+  const XmlRpc::XmlRpcValue* v = find(name);
+  if (v && v->getType() != XmlRpc::XmlRpcValue::TypeStruct) check(name, "must be a dictionary");
+  return Params(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
+}
+
+std::vector<std::string> Params::blockNames(const std::string& name) const {
+  std::vector<std::string> out;
+  XmlRpc::XmlRpcValue* v = find(name);
+  if (!v) return out;
+  if (v->getType() != XmlRpc::XmlRpcValue::TypeStruct) check(name, "must be a dictionary of named blocks");
+  for (auto& e : *v) {
+    if (e.second.getType() != XmlRpc::XmlRpcValue::TypeStruct) check(name + "/" + e.first, "must be a dictionary");
+    out.push_back(e.first);
+  }
+  return out;
+}
+
+std::vector<Params> Params::items(const std::string& name) const {
+  std::vector<Params> out;
+  XmlRpc::XmlRpcValue* v = find(name);
+  if (!v) return out;
+  if (v->getType() != XmlRpc::XmlRpcValue::TypeArray) check(name, "must be a list");
+  for (int i = 0; i < v->size(); ++i) {
+    const std::string item = qualified(name) + "[" + std::to_string(i) + "]";
+    if ((*v)[i].getType() != XmlRpc::XmlRpcValue::TypeStruct)
+      throw ParameterError("parameter " + item + ": must be a dictionary");
+    out.emplace_back((*v)[i], item);
+  }
+  return out;
+}
+
 std::string Params::qualified(const std::string& name) const { return ns_ + "/" + name; }
 
 bool Params::has(const std::string& name) const { return find(name) != nullptr; }
@@ -150,6 +182,47 @@ bool Params::optionalBool(const std::string& name, bool fallback) const {
 std::string Params::optionalString(const std::string& name, const std::string& fallback) const {
   XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toString(*v, qualified(name)) : fallback;
+}
+
+std::vector<double> Params::optionalDoubleList(const std::string& name, std::size_t min_size,
+                                               std::size_t max_size) const {
+  std::vector<double> out;
+  XmlRpc::XmlRpcValue* v = find(name);
+  if (!v) return out;
+  if (v->getType() != XmlRpc::XmlRpcValue::TypeArray) check(name, "must be a list of numbers");
+  for (int i = 0; i < v->size(); ++i) out.push_back(rules::toNumber((*v)[i], qualified(name) + "[" + std::to_string(i) + "]"));
+  if (out.size() < min_size || out.size() > max_size) {
+    const std::string n = std::to_string(min_size) +
+                          (min_size == max_size ? "" : max_size == static_cast<std::size_t>(-1) ? " or more"
+                                                                                               : ".." + std::to_string(max_size));
+    check(name, "must have " + n + " numbers");
+  }
+  return out;
+}
+
+std::vector<std::vector<double>> Params::optionalDoubleRows(const std::string& name, std::size_t width) const {
+  std::vector<std::vector<double>> out;
+  XmlRpc::XmlRpcValue* v = find(name);
+  if (!v) return out;
+  const std::string form = "must be a list of [" + std::string(width == 2 ? "x, y" : std::to_string(width) + " numbers") + "]";
+  if (v->getType() != XmlRpc::XmlRpcValue::TypeArray) check(name, form);
+  for (int i = 0; i < v->size(); ++i) {
+    XmlRpc::XmlRpcValue& row = (*v)[i];
+    if (row.getType() != XmlRpc::XmlRpcValue::TypeArray || row.size() != static_cast<int>(width)) check(name, form);
+    std::vector<double> r;
+    for (int k = 0; k < row.size(); ++k) r.push_back(rules::toNumber(row[k], qualified(name) + "[" + std::to_string(i) + "]"));
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<std::string> Params::optionalStringList(const std::string& name) const {
+  std::vector<std::string> out;
+  XmlRpc::XmlRpcValue* v = find(name);
+  if (!v) return out;
+  if (v->getType() != XmlRpc::XmlRpcValue::TypeArray) check(name, "must be a list of strings");
+  for (int i = 0; i < v->size(); ++i) out.push_back(rules::toString((*v)[i], qualified(name) + "[" + std::to_string(i) + "]"));
+  return out;
 }
 
 void Params::requirePositive(const std::string& name, double value) const { rules::positive(qualified(name), value); }

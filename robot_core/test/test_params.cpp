@@ -86,3 +86,43 @@ TEST(Params, ReadsTheRobotsConfig) {
     EXPECT_GT(p["limits"].requireDouble("max_wheel_speed"), 0.0) << robot;
   }
 }
+
+TEST(Params, BlocksListsAndRows) {
+  const std::string f = writeYaml(
+      "w:\n"
+      "  motors: {left: {max: 1}, right: {max: 2}}\n"
+      "  zones: [{name: a}, {name: b}]\n"
+      "  start: [0.25, 1.8, 0]\n"
+      "  kinds: [red, green]\n"
+      "  beacons: [[0, 0], [0, 2.1], [3.0, 1.05]]\n"
+      "  flat: 5\n"
+      "  bad_rows: [[0, 0], [1]]\n"
+      "  bad_blocks: {left: 1}\n");
+  const Params w = Params::fromYamlFile(f, "w");
+  EXPECT_EQ(w.blockNames("motors"), (std::vector<std::string>{"left", "right"}));
+  EXPECT_EQ(w["motors"]["right"].requireInt("max"), 2);
+  ASSERT_EQ(w.items("zones").size(), 2u);
+  EXPECT_EQ(w.items("zones")[1].requireString("name"), "b");
+  EXPECT_EQ(w.items("zones")[1].qualified("name"), "/w/zones[1]/name");
+  EXPECT_EQ(w.optionalDoubleList("start", 2, 3).size(), 3u);
+  EXPECT_TRUE(w.optionalDoubleList("absent", 2, 3).empty());
+  EXPECT_EQ(w.optionalStringList("kinds"), (std::vector<std::string>{"red", "green"}));
+  const auto rows = w.optionalDoubleRows("beacons", 2);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_DOUBLE_EQ(rows[2][1], 1.05);
+  auto refused = [&](auto read, const std::string& names) {
+    try {
+      read();
+      ADD_FAILURE() << "accepted " << names;
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find(names), std::string::npos) << e.what();
+    }
+  };
+  refused([&] { w.optionalDoubleList("start", 2, 2); }, "/w/start");
+  refused([&] { w.optionalDoubleRows("bad_rows", 2); }, "/w/bad_rows");
+  refused([&] { w.blockNames("bad_blocks"); }, "/w/bad_blocks/left");
+  refused([&] { w.block("flat"); }, "/w/flat");
+  refused([&] { w.items("flat"); }, "/w/flat");
+  refused([&] { w.optionalStringList("start"); }, "/w/start[0]");
+  std::remove(f.c_str());
+}

@@ -20,7 +20,7 @@ from hal_nodes.msg import GotoAction, GotoGoal, LocalizationQuality
 from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry
 
-from hal_test_common import Recorder, yaw_of  # test/scripts (driver.sh puts it on PYTHONPATH)
+from test_support import Recorder, yaw_of  # test/scripts (driver.sh puts it on PYTHONPATH)
 
 GOALS = [(2.60, 1.70, 0.00), (0.40, 1.70, math.pi), (0.40, 0.40, -math.pi / 2), (2.60, 0.40, 0.0),
          (1.50, 1.05, math.pi / 2), (1.50, 1.60, math.pi / 2), (1.00, 1.00, 2.0), (1.02, 1.01, 2.0),

@@ -1,13 +1,13 @@
 """Shared helpers of the CAN rostests (test_can_*.py): a CAN-over-UDP participant (the wire
 format of hcl_drivers/transport/udp_can_bus.h) to inject frames like a second node or a CAN
-controller reporting errors, and topic recorders."""
+controller reporting errors, and /diagnostics by hardware id (the recorders are test_support's)."""
 import socket
 import struct
 import threading
 import time
 
-import rospy
 from diagnostic_msgs.msg import DiagnosticArray
+from test_support import Recorder, value  # noqa: F401 (the CAN tests import them from here)
 
 KIND_FRAME, KIND_HELLO = 1, 2
 FLAG_RTR, FLAG_EXT, FLAG_ERR = 1, 2, 4
@@ -64,37 +64,6 @@ class CanUdp(object):
         self.running = False
 
 
-class Recorder(object):
-    """Keeps (receive time, message) of a topic."""
-
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=500)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def wait_for(self, pred, timeout):
-        """The first message (newest first) satisfying pred within timeout, else None."""
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            m = self.last()
-            if m is not None and pred(m):
-                return m
-            time.sleep(0.02)
-        return None
-
-
 class Diagnostics(Recorder):
     def __init__(self):
         Recorder.__init__(self, '/diagnostics', DiagnosticArray)
@@ -115,13 +84,6 @@ class Diagnostics(Recorder):
                 return s
             time.sleep(0.05)
         return self.status(hardware_id)
-
-
-def value(status, key):
-    for kv in status.values:
-        if kv.key == key:
-            return kv.value
-    return None
 
 
 def truth_value(msg, name):

@@ -11,51 +11,24 @@ import rostest
 from geometry_msgs.msg import Twist
 from hal_nodes.msg import JoystickEvent, JoystickState
 from std_msgs.msg import Bool
+from test_support import Recorder, wait_for
 
 AXES = ['left_x', 'left_y', 'right_x', 'right_y']
 BUTTONS = ['a', 'b', 'lb', 'back', 'start']
-
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        rospy.Subscriber(topic, msg_type, self._cb, queue_size=200)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [m for t, m in self.items if t >= t0]
-
-    def latest(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if pred():
-            return True
-        time.sleep(0.02)
-    return bool(pred())
 
 
 class JoystickTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_brain_joystick')
-        cls.cmd = Recorder('/hal/drive/cmd_vel', Twist)
-        cls.deactivated = Recorder('/effectors/deactivated', Bool)
+        cls.cmd = Recorder('/hal/drive/cmd_vel', Twist, queue_size=200)
+        cls.deactivated = Recorder('/effectors/deactivated', Bool, queue_size=200)
         cls.state_pub = rospy.Publisher('/hal/joystick/state', JoystickState, queue_size=1)
         cls.event_pub = rospy.Publisher('/hal/joystick/events', JoystickEvent, queue_size=10)
         cls.pad = {'axes': [0.0] * 4, 'buttons': [False] * 5, 'on': True}
         threading.Thread(target=cls._pad_loop, daemon=True).start()
-        assert wait_for(lambda: cls.cmd.latest() is not None, 40.0), 'the brain never commanded the drive'
-        assert wait_for(lambda: cls.deactivated.latest() is not None, 10.0), 'hal_node not up'
+        assert wait_for(lambda: cls.cmd.last() is not None, 40.0, step=0.02), 'the brain never commanded the drive'
+        assert wait_for(lambda: cls.deactivated.last() is not None, 10.0, step=0.02), 'hal_node not up'
 
     @classmethod
     def _pad_loop(cls):
@@ -76,15 +49,15 @@ class JoystickTest(unittest.TestCase):
         t0 = time.monotonic()
         # right_x -0.25 is the stick a quarter to the left: turn left, +0.5 rad/s (REP-103)
         ok = wait_for(lambda: any(abs(m.linear.x - 0.25) < 1e-6 and abs(m.angular.z - 0.5) < 1e-6
-                                  for m in self.cmd.since(t0)), 2.0)
-        self.assertTrue(ok, 'expected 0.25 m/s, 0.5 rad/s; got %s' % self.cmd.latest())
+                                  for m in self.cmd.messages(t0)), 2.0, step=0.02)
+        self.assertTrue(ok, 'expected 0.25 m/s, 0.5 rad/s; got %s' % self.cmd.last())
 
     def test_2_releasing_the_deadman_stops(self):
         self.set_pad(left_y=1.0, deadman=False)
         time.sleep(0.3)
         t0 = time.monotonic()
         time.sleep(0.5)
-        cmds = self.cmd.since(t0)
+        cmds = self.cmd.messages(t0)
         self.assertTrue(cmds)
         self.assertTrue(all(m.linear.x == 0.0 and m.angular.z == 0.0 for m in cmds))
 
@@ -93,16 +66,16 @@ class JoystickTest(unittest.TestCase):
         time.sleep(0.3)
         self.pad['on'] = False
         t0 = time.monotonic()
-        ok = wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.since(t0)), 1.0)
+        ok = wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.messages(t0)), 1.0, step=0.02)
         self.pad['on'] = True
         self.assertTrue(ok, 'no zero speed within 1 s of the pad going silent')
 
     def test_4_buttons_call_effector_callbacks(self):
         self.event_pub.publish(JoystickEvent(button='back', pressed=True))
-        self.assertTrue(wait_for(lambda: self.deactivated.latest().data, 2.0), 'back did not deactivate the effectors')
+        self.assertTrue(wait_for(lambda: self.deactivated.last().data, 2.0, step=0.02), 'back did not deactivate the effectors')
         self.event_pub.publish(JoystickEvent(button='back', pressed=False))
         self.event_pub.publish(JoystickEvent(button='start', pressed=True))
-        self.assertTrue(wait_for(lambda: not self.deactivated.latest().data, 2.0), 'start did not activate them')
+        self.assertTrue(wait_for(lambda: not self.deactivated.last().data, 2.0, step=0.02), 'start did not activate them')
 
 
 if __name__ == '__main__':

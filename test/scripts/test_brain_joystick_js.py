@@ -4,7 +4,6 @@ stick and button values go into the simulator's joystick emulator, which writes 
 js_event into the FIFO the HCL Joystick driver reads; HAL names them; the brain drives.
 Raw values are Linux's: -32767..32767, stick forward is negative on the xpad's Y axes."""
 import sys
-import threading
 import time
 import unittest
 
@@ -12,52 +11,25 @@ import rospy
 import rostest
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool, Int16MultiArray, UInt8MultiArray
+from test_support import Recorder, wait_for
 
 AXES = 6       # xpad: left_x 0, left_y 1, lt 2, right_x 3, right_y 4, rt 5
 BUTTONS = 12   # a 0, b 1, x 2, y 3, lb 4, rb 5, back 6, start 7
 LB, BACK, START = 4, 6, 7
 
 
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        rospy.Subscriber(topic, msg_type, self._cb, queue_size=200)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [m for t, m in self.items if t >= t0]
-
-    def latest(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if pred():
-            return True
-        time.sleep(0.02)
-    return bool(pred())
-
-
 class JoystickJsEventTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_brain_joystick_js')
-        cls.cmd = Recorder('/hal/drive/cmd_vel', Twist)
-        cls.deactivated = Recorder('/effectors/deactivated', Bool)
+        cls.cmd = Recorder('/hal/drive/cmd_vel', Twist, queue_size=200)
+        cls.deactivated = Recorder('/effectors/deactivated', Bool, queue_size=200)
         cls.axes = rospy.Publisher('/sim/js/axes', Int16MultiArray, queue_size=10)
         cls.buttons = rospy.Publisher('/sim/js/buttons', UInt8MultiArray, queue_size=10)
-        assert wait_for(lambda: cls.axes.get_num_connections() and cls.buttons.get_num_connections(), 40.0), \
+        assert wait_for(lambda: cls.axes.get_num_connections() and cls.buttons.get_num_connections(), 40.0, step=0.02), \
             'the joystick emulator is not up'
-        assert wait_for(lambda: cls.cmd.latest() is not None, 40.0), 'the brain never commanded the drive'
-        assert wait_for(lambda: cls.deactivated.latest() is not None, 10.0), 'hal_node not up'
+        assert wait_for(lambda: cls.cmd.last() is not None, 40.0, step=0.02), 'the brain never commanded the drive'
+        assert wait_for(lambda: cls.deactivated.last() is not None, 10.0, step=0.02), 'hal_node not up'
 
     def pad(self, left_y=0, right_x=0, buttons=()):
         axes = [0] * AXES
@@ -71,27 +43,27 @@ class JoystickJsEventTest(unittest.TestCase):
         # Full deflections: both layers' dead zones (HCL deadzone, HAL dead_zone) rescale to 1 there.
         self.pad(left_y=-32767, right_x=32767, buttons=(LB,))   # left stick forward, right stick right
         ok = wait_for(lambda: any(abs(m.linear.x - 0.5) < 0.01 and abs(m.angular.z + 2.0) < 0.03
-                                  for m in self.cmd.since(t0)), 3.0)
-        self.assertTrue(ok, 'expected 0.5 m/s, -2.0 rad/s (turning right) from js_events; got %s' % self.cmd.latest())
+                                  for m in self.cmd.messages(t0)), 3.0, step=0.02)
+        self.assertTrue(ok, 'expected 0.5 m/s, -2.0 rad/s (turning right) from js_events; got %s' % self.cmd.last())
 
     def test_2_releasing_the_deadman_stops(self):
         self.pad(left_y=-32767, buttons=(LB,))
-        self.assertTrue(wait_for(lambda: abs(self.cmd.latest().linear.x - 0.5) < 0.01, 3.0))
+        self.assertTrue(wait_for(lambda: abs(self.cmd.last().linear.x - 0.5) < 0.01, 3.0, step=0.02))
         t0 = time.monotonic()
         self.pad(left_y=-32767)      # lb released, stick still forward
-        self.assertTrue(wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.since(t0)), 2.0),
-                        'still driving after the deadman was released: %s' % self.cmd.latest())
+        self.assertTrue(wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.messages(t0)), 2.0, step=0.02),
+                        'still driving after the deadman was released: %s' % self.cmd.last())
         time.sleep(0.3)
         t1 = time.monotonic()
         time.sleep(0.5)
-        self.assertTrue(all(m.linear.x == 0.0 and m.angular.z == 0.0 for m in self.cmd.since(t1)))
+        self.assertTrue(all(m.linear.x == 0.0 and m.angular.z == 0.0 for m in self.cmd.messages(t1)))
 
     def test_3_buttons_call_effector_callbacks(self):
         self.pad(buttons=(BACK,))
-        self.assertTrue(wait_for(lambda: self.deactivated.latest().data, 3.0), 'back did not deactivate the effectors')
+        self.assertTrue(wait_for(lambda: self.deactivated.last().data, 3.0, step=0.02), 'back did not deactivate the effectors')
         self.pad()
         self.pad(buttons=(START,))
-        self.assertTrue(wait_for(lambda: not self.deactivated.latest().data, 3.0), 'start did not activate them')
+        self.assertTrue(wait_for(lambda: not self.deactivated.last().data, 3.0, step=0.02), 'start did not activate them')
         self.pad()
 
 

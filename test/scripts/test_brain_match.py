@@ -21,6 +21,7 @@ from hal_nodes.msg import HumanInput
 from smart_brain.msg import ActionStatus, MatchStatus, SmachContainerStatus, SmachContainerStructure
 from smart_brain.srv import StartAction, SwitchStrategy
 from std_msgs.msg import Bool
+from test_support import Recorder, wait_for
 
 DURATION = 9.0   # brain_match.test: match/duration
 
@@ -62,35 +63,6 @@ class Server(object):
             return [dict(r) for r in self.goals]
 
 
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=500)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0=0.0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def latest(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout, step=0.01):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = pred()
-        if value:
-            return value
-        time.sleep(step)
-    return pred()
-
-
 class BrainMatchTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -104,9 +76,9 @@ class BrainMatchTest(unittest.TestCase):
         cls.deactivated = Recorder('/effectors/deactivated', Bool)
         cls.hmi = rospy.Publisher('/hal/hmi/input', HumanInput, queue_size=1, latch=True)
         cls.obstacle = rospy.Publisher('/test/obstacle', Bool, queue_size=1)
-        ok = wait_for(lambda: cls.match.latest() is not None and cls.match.latest().state == 'waiting_for_start', 60.0, 0.1)
-        assert ok, 'the brain never reported waiting_for_start: %s' % cls.match.latest()
-        assert wait_for(lambda: cls.deactivated.latest() is not None, 30.0, 0.1), 'hal_node not up'
+        ok = wait_for(lambda: cls.match.last() is not None and cls.match.last().state == 'waiting_for_start', 60.0, 0.1)
+        assert ok, 'the brain never reported waiting_for_start: %s' % cls.match.last()
+        assert wait_for(lambda: cls.deactivated.last() is not None, 30.0, 0.1), 'hal_node not up'
 
     def test_0_a_missing_device_or_strategy_stops_the_brain_with_one_clear_line(self):
         for args, expect in ((['_strategy:=homologation', '_device_timeout:=1'], '/hal/driver'),
@@ -123,7 +95,7 @@ class BrainMatchTest(unittest.TestCase):
         # 1. Nothing moves before the start signal.
         time.sleep(1.0)
         self.assertEqual(self.server.snapshot(), [], 'a goal was sent before the start signal')
-        self.assertFalse(self.deactivated.latest().data)
+        self.assertFalse(self.deactivated.last().data)
 
         # Strategies switch at runtime (here before the start): unknown names are refused.
         switch = rospy.ServiceProxy('/brain/switch_strategy', SwitchStrategy)
@@ -133,13 +105,13 @@ class BrainMatchTest(unittest.TestCase):
         for name in ('brain_bench_idle', 'brain_test_drive'):
             res = switch(name)
             self.assertTrue(res.success, res.message)
-            self.assertTrue(wait_for(lambda: self.match.latest().strategy == name, 5.0), self.match.latest())
-        self.assertEqual(self.match.latest().state, 'waiting_for_start')
+            self.assertTrue(wait_for(lambda: self.match.last().strategy == name, 5.0), self.match.last())
+        self.assertEqual(self.match.last().state, 'waiting_for_start')
 
         # 2. The cord is pulled: the strategy runs; leg 1 succeeds, leg 2 starts.
         self.hmi.publish(HumanInput(cord_inserted=False, started=True))
         started = time.monotonic()
-        self.assertTrue(wait_for(lambda: self.match.latest().state == 'running', 2.0))
+        self.assertTrue(wait_for(lambda: self.match.last().state == 'running', 2.0))
         self.assertTrue(wait_for(lambda: [g['value'] for g in self.server.snapshot()] == [1, 2], 3.0),
                         [g['value'] for g in self.server.snapshot()])
         self.assertTrue(wait_for(lambda: any(m.path.endswith('/BODY') and m.active_states == ['LEG_2']
@@ -184,7 +156,7 @@ class BrainMatchTest(unittest.TestCase):
         self.assertEqual(start_action('w2', 'wait', 'duration: 30').message, 'replaced w1')
         self.assertFalse(start_action('w3', 'no_such_action', '').accepted)
         time.sleep(0.6)
-        st = self.actions.latest()
+        st = self.actions.last()
         self.assertEqual((st.id, st.state), ('w2', 'running'))
         self.assertGreater(st.elapsed, 0.3)
         self.assertGreaterEqual(st.progress, 0.0)
@@ -193,14 +165,14 @@ class BrainMatchTest(unittest.TestCase):
         # 6. The match end, while LEG_2's goal and the slave's action run: every goal
         # cancelled, every effector deactivated through HAL, no goal afterwards.
         self.assertIsNone(self.server.snapshot()[2]['end'])
-        self.assertTrue(wait_for(lambda: self.match.latest().state == 'ended', DURATION + 2.0, 0.02))
+        self.assertTrue(wait_for(lambda: self.match.last().state == 'ended', DURATION + 2.0, 0.02))
         t_end = started + DURATION
         cancelled = self.server.snapshot()[2]['cancelled']
         self.assertTrue(cancelled, 'the running goal was not cancelled at the match end')
         self.assertLess(abs(cancelled - t_end), 0.5, 'cancelled %.2f s from the match end' % (cancelled - t_end))
-        self.assertTrue(wait_for(lambda: self.deactivated.latest().data, 1.0), 'effectors not deactivated')
-        self.assertTrue(wait_for(lambda: self.match.latest().effectors_deactivated, 1.0))
-        self.assertTrue(wait_for(lambda: self.actions.latest().state == 'preempted', 2.0), self.actions.latest())
+        self.assertTrue(wait_for(lambda: self.deactivated.last().data, 1.0), 'effectors not deactivated')
+        self.assertTrue(wait_for(lambda: self.match.last().effectors_deactivated, 1.0))
+        self.assertTrue(wait_for(lambda: self.actions.last().state == 'preempted', 2.0), self.actions.last())
         time.sleep(1.5)
         self.assertEqual(len(self.server.snapshot()), 3, 'a goal was sent after the match end')
         self.assertTrue(all(g['end'] is not None for g in self.server.snapshot()), 'a goal was left running')

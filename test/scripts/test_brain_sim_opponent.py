@@ -3,7 +3,6 @@
 read by the test only."""
 import math
 import sys
-import threading
 import time
 import unittest
 
@@ -15,34 +14,7 @@ from robot_sim.msg import MatchState
 from robot_sim.srv import PlaceOpponent, SetSwitch
 from smart_brain.msg import MatchStatus, SmachContainerStatus
 from std_srvs.srv import Trigger
-
-
-class Latest(object):
-    def __init__(self, topic, msg_type, keep=False):
-        self.msg = None
-        self.items = []
-        self.keep = keep
-        self.lock = threading.Lock()
-        rospy.Subscriber(topic, msg_type, self._cb, queue_size=100)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.msg = msg
-            if self.keep:
-                self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [m for t, m in self.items if t >= t0]
-
-
-def wait_for(pred, timeout, step=0.05):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if pred():
-            return True
-        time.sleep(step)
-    return bool(pred())
+from test_support import Latest, wait_for
 
 
 class SimOpponentTest(unittest.TestCase):
@@ -52,19 +24,19 @@ class SimOpponentTest(unittest.TestCase):
         referee = Latest('/sim/match', MatchState)
         truth = Latest('/sim/ground_truth', Odometry, keep=True)
         status = Latest('/brain/smach/container_status', SmachContainerStatus, keep=True)
-        self.assertTrue(wait_for(lambda: brain.msg is not None and brain.msg.state == 'waiting_for_start', 120.0))
+        self.assertTrue(wait_for(lambda: brain.msg is not None and brain.msg.state == 'waiting_for_start', 120.0, step=0.05))
         time.sleep(3.0)
         initial = referee.msg.score
         rospy.wait_for_service('/sim/place_opponent', 10.0)
         place = rospy.ServiceProxy('/sim/place_opponent', PlaceOpponent)
         self.assertTrue(place(Pose2D(2.75, 1.8, math.pi), True).ok)   # parked far away
         self.assertTrue(rospy.ServiceProxy('/sim/set_switch', SetSwitch)('start_cord', False).ok)
-        if not wait_for(lambda: brain.msg.state == 'running', 10.0):
+        if not wait_for(lambda: brain.msg.state == 'running', 10.0, step=0.05):
             # Known simulator defect (robot_sim, being fixed): the HMI may never see the cord pulled.
             rospy.logwarn('the start cord did not start the match within 10 s: starting via /brain/start')
             self.assertTrue(rospy.ServiceProxy('/brain/start', Trigger)().success)
         # Wait for the goto leg (homologation step 2) and put the opponent ahead of the robot.
-        self.assertTrue(wait_for(lambda: any(m.active_states == ['02_GOTO'] for m in status.since(0)), 30.0),
+        self.assertTrue(wait_for(lambda: any(m.active_states == ['02_GOTO'] for m in status.since(0)), 30.0, step=0.05),
                         'the goto step never started')
         time.sleep(1.0)
         p = truth.msg.pose.pose
@@ -72,7 +44,7 @@ class SimOpponentTest(unittest.TestCase):
         t_place = time.monotonic()
         self.assertTrue(place(Pose2D(p.position.x + 0.45 * math.cos(yaw), p.position.y + 0.45 * math.sin(yaw), yaw + math.pi),
                               True).ok)
-        self.assertTrue(wait_for(lambda: any(m.active_states == ['opponent_ahead'] for m in status.since(t_place)), 3.0),
+        self.assertTrue(wait_for(lambda: any(m.active_states == ['opponent_ahead'] for m in status.since(t_place)), 3.0, step=0.05),
                         'the opponent_ahead trigger did not fire')
         # The robot stops (ground truth speed ~0) while the opponent stays.
         time.sleep(1.5)
@@ -81,7 +53,7 @@ class SimOpponentTest(unittest.TestCase):
         # The opponent leaves: the interrupted goto resumes and the robot still scores.
         t_leave = time.monotonic()
         self.assertTrue(place(Pose2D(2.75, 1.8, math.pi), True).ok)
-        self.assertTrue(wait_for(lambda: any(m.active_states == ['02_GOTO'] for m in status.since(t_leave)), 8.0),
+        self.assertTrue(wait_for(lambda: any(m.active_states == ['02_GOTO'] for m in status.since(t_leave)), 8.0, step=0.05),
                         'the interrupted goto did not resume')
         self.assertTrue(wait_for(lambda: referee.msg.score > initial, 80.0, 0.5), 'no point scored (referee %s)' % referee.msg)
 

@@ -2,7 +2,6 @@
 """Camera driver against the simulator's rendered stream (top-mounted view of an empty table)."""
 import subprocess
 import sys
-import threading
 import time
 import unittest
 
@@ -11,28 +10,10 @@ import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hcl_drivers.msg import CameraState
 from sensor_msgs.msg import Image
+from test_support import Recorder
 
 TABLE_BGR = (60, 150, 60)    # robot_sim scene_renderer kTableColour
 ROBOT_BGR = (200, 80, 20)    # kRobotColour
-
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=100)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
 
 
 def pixel(img, u, v):
@@ -48,9 +29,9 @@ class CameraTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_camera')
-        cls.image = Recorder('/hcl/camera/image', Image)
-        cls.state = Recorder('/hcl/camera/state', CameraState)
-        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray)
+        cls.image = Recorder('/hcl/camera/image', Image, queue_size=100)
+        cls.state = Recorder('/hcl/camera/state', CameraState, queue_size=100)
+        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray, queue_size=100)
         end = time.monotonic() + 30
         while time.monotonic() < end and cls.image.last() is None:
             time.sleep(0.1)

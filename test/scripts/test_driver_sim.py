@@ -20,7 +20,7 @@ from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry, Path
 from robot_sim.srv import PlaceOpponent
 
-from hal_test_common import Recorder, yaw_of
+from test_support import Recorder, yaw_of
 
 DEG = math.pi / 180.0
 

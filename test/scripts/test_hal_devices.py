@@ -15,7 +15,7 @@ from hcl_drivers.msg import BeaconDelta, Bearing, DigitalInputs, EncoderCounter,
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Joy, Range
 
-from hal_test_common import DeviceDiagnostics, EffectorSwitch, Recorder, is_ok, value, wait_for
+from test_support import DeviceDiagnostics, EffectorSwitch, Recorder, is_ok, value, wait_for
 
 
 class FakeEncoders(object):

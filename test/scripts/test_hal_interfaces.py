@@ -17,7 +17,7 @@ from hcl_drivers.msg import DigitalInputs, MotorCommand, StepperBoardState
 from sensor_msgs.msg import Image
 from std_msgs.msg import Float64, Int32, String, UInt16
 
-from hal_test_common import DeviceDiagnostics, EffectorSwitch, Recorder, is_active, is_ok, wait_for
+from test_support import DeviceDiagnostics, EffectorSwitch, Recorder, is_active, is_ok, wait_for
 
 
 class FakeStepper(object):

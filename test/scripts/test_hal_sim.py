@@ -28,7 +28,7 @@ from sensor_msgs.msg import Range
 from std_msgs.msg import Float64
 from nav_msgs.msg import Odometry
 
-from hal_test_common import DeviceDiagnostics, EffectorSwitch, is_active, wait_for
+from test_support import DeviceDiagnostics, EffectorSwitch, Latest, is_active, wait_for
 
 
 
@@ -40,24 +40,6 @@ def wrap(a):
 def median(values):
     values = sorted(values)
     return values[len(values) // 2] if values else float('nan')
-
-
-class Latest(object):
-    def __init__(self, topic, msg_type, keep=False):
-        self.lock = threading.Lock()
-        self.msg = None
-        self.items = [] if keep else None
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=200, tcp_nodelay=True)
-
-    def _cb(self, m):
-        with self.lock:
-            self.msg = m
-            if self.items is not None:
-                self.items.append((time.monotonic(), m))
-
-    def get(self):
-        with self.lock:
-            return self.msg
 
 
 class CanBusListener(object):
@@ -112,8 +94,8 @@ class HalSimTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('test_hal_sim')
         cls.start = rospy.get_param('/sim/world/robot/start')  # odom starts where the robot stood
-        cls.truth = Latest('/sim/ground_truth', Odometry)
-        cls.odom = Latest('/odom', Odometry)
+        cls.truth = Latest('/sim/ground_truth', Odometry, queue_size=200)
+        cls.odom = Latest('/odom', Odometry, queue_size=200)
         cls.cmd = rospy.Publisher('/hal/drive/cmd_vel', Twist, queue_size=1)
         cls.diag = DeviceDiagnostics()
         cls.effectors = EffectorSwitch(60.0)
@@ -235,11 +217,11 @@ class HalSimTest(unittest.TestCase):
         compass_truth = rospy.get_param('~compass_truth', '')
         rangers = rospy.get_param('~rangers', {})
         beacons = rospy.get_param('/table/beacons')
-        ranges = Latest('/hal/beacons/ranges', BeaconRange, keep=True)
-        heading = Latest('/hal/compass/heading', Heading, keep=True) if compass_truth else None
-        bearing = Latest(compass_truth, Float64, keep=True) if compass_truth else None
-        hal = {n: Latest('/hal/rangers/' + n, Range, keep=True) for n in rangers}
-        truth = {n: Latest(t, Float64, keep=True) for n, t in rangers.items()}
+        ranges = Latest('/hal/beacons/ranges', BeaconRange, keep=True, queue_size=200)
+        heading = Latest('/hal/compass/heading', Heading, keep=True, queue_size=200) if compass_truth else None
+        bearing = Latest(compass_truth, Float64, keep=True, queue_size=200) if compass_truth else None
+        hal = {n: Latest('/hal/rangers/' + n, Range, keep=True, queue_size=200) for n in rangers}
+        truth = {n: Latest(t, Float64, keep=True, queue_size=200) for n, t in rangers.items()}
         t0 = time.monotonic()
         time.sleep(4.0)
         tp = self.truth.get().pose.pose
@@ -324,7 +306,7 @@ class HalSimTest(unittest.TestCase):
         """From the request (on an open connection) to the motor board's zero command on the
         bus (kernel receive stamp): deactivate service -> drive effector -> HCL motor board
         driver -> the CAN frame the emulator applies on receipt. Returns it [s]."""
-        state = Latest('/hcl/motor_board/state', MotorBoardState, keep=True)
+        state = Latest('/hcl/motor_board/state', MotorBoardState, keep=True, queue_size=200)
         bus = CanBusListener(rospy.get_param('/hcl/motor_board/bus'))
         cob_id = int(str(rospy.get_param('/hcl/motor_board/command_cob_id', 0x200 + 10)), 0)
         try:
@@ -349,7 +331,7 @@ class HalSimTest(unittest.TestCase):
     def deactivate_at_hbmotors(self):
         """From the request (on an open connection) to every HBmotor board reading back duty 0,
         stamped (simulated time) at the poll that read it. Returns it [s]."""
-        states = [Latest(t, HBMotorState, keep=True) for t in rospy.get_param('~motor_states')]
+        states = [Latest(t, HBMotorState, keep=True, queue_size=200) for t in rospy.get_param('~motor_states')]
         self.assertTrue(wait_for(lambda: all(s.get() and s.get().command != 0 for s in states), 5.0),
                         'the motors are not driven')
         t_call = time.monotonic()

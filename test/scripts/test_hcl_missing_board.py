@@ -12,7 +12,7 @@ import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticStatus
 
-from hal_test_common import DeviceDiagnostics, Recorder, value, wait_for
+from test_support import DeviceDiagnostics, Recorder, value, wait_for
 from hcl_drivers.msg import ExampleBoardState
 
 

@@ -3,7 +3,6 @@
 import math
 import subprocess
 import sys
-import threading
 import time
 import unittest
 
@@ -13,36 +12,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hcl_drivers.msg import Bearing, DigitalInputs, EncoderCounter, MotorCommand
 from sensor_msgs.msg import Range
 from std_msgs.msg import Int32, UInt16
+from test_support import Recorder, wait_for
 
 RATES = {'motor_left': 50.0, 'motor_right': 50.0, 'io': 20.0, 'ranger_front': 10.0, 'compass': 20.0}
-
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=500)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout, step=0.05):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(step)
-    return pred()
 
 
 class I2cBoardsTest(unittest.TestCase):
@@ -58,7 +30,7 @@ class I2cBoardsTest(unittest.TestCase):
         cls.diagnostics = Recorder('/diagnostics', DiagnosticArray)
         cls.cmd_left = rospy.Publisher('/hcl/motor_left/motor/left/command', MotorCommand, queue_size=1)
         cls.leds = rospy.Publisher('/hcl/io/outputs', UInt16, queue_size=1, latch=True)
-        assert wait_for(lambda: cls.enc_left.last() and cls.range.last() and cls.bearing.last(), 30.0), \
+        assert wait_for(lambda: cls.enc_left.last() and cls.range.last() and cls.bearing.last(), 30.0, step=0.05), \
             'boards never published'
 
     def drive(self, value, seconds):
@@ -83,7 +55,7 @@ class I2cBoardsTest(unittest.TestCase):
         self.drive(-50, 1.0)
         self.assertEqual(self.duty_left.last().data, -50)
         stopped = time.monotonic()
-        self.assertTrue(wait_for(lambda: self.duty_left.last().data == 0, 1.0),
+        self.assertTrue(wait_for(lambda: self.duty_left.last().data == 0, 1.0, step=0.05),
                         'motor still driven %.1f s after the last command' % (time.monotonic() - stopped))
         # Backwards counts down (modulo 2^32): about 50/127 * 2000 ticks in 1 s.
         delta = (self.enc_left.last().raw - before) % 2**32
@@ -93,21 +65,21 @@ class I2cBoardsTest(unittest.TestCase):
     def test_3_buttons_in_leds_out(self):
         # Pin 0 pulled low (button to ground pressed) reads 1 through IPOL; pin 1 high reads 0.
         rospy.set_param('/sim/firmware/io/input_levels', 0xFFFE)
-        self.assertTrue(wait_for(lambda: self.inputs.last().bits == 0x0001, 2.0), hex(self.inputs.last().bits))
+        self.assertTrue(wait_for(lambda: self.inputs.last().bits == 0x0001, 2.0, step=0.05), hex(self.inputs.last().bits))
         rospy.set_param('/sim/firmware/io/input_levels', 0xFFFD)
-        self.assertTrue(wait_for(lambda: self.inputs.last().bits == 0x0002, 2.0), hex(self.inputs.last().bits))
+        self.assertTrue(wait_for(lambda: self.inputs.last().bits == 0x0002, 2.0, step=0.05), hex(self.inputs.last().bits))
         self.assertEqual(list(self.inputs.last().names), ['start', 'colour'])
         self.leds.publish(UInt16(0xA500))
-        self.assertTrue(wait_for(lambda: self.outputs.last() and self.outputs.last().data == 0xA500, 2.0))
+        self.assertTrue(wait_for(lambda: self.outputs.last() and self.outputs.last().data == 0xA500, 2.0, step=0.05))
 
     def test_4_ranger_in_metres_without_blocking_the_bus(self):
         rospy.set_param('/sim/firmware/ranger_front/range', 2.5)
-        self.assertTrue(wait_for(lambda: abs(self.range.last().range - 2.5) < 0.006, 2.0), self.range.last().range)
+        self.assertTrue(wait_for(lambda: abs(self.range.last().range - 2.5) < 0.006, 2.0, step=0.05), self.range.last().range)
         m = self.range.last()
         self.assertEqual(m.radiation_type, Range.ULTRASOUND)
         self.assertAlmostEqual(m.min_range, 0.16, places=3)
         rospy.set_param('/sim/firmware/ranger_front/range', 9.0)  # nothing within 6 m: no echo
-        self.assertTrue(wait_for(lambda: math.isinf(self.range.last().range), 2.0), self.range.last().range)
+        self.assertTrue(wait_for(lambda: math.isinf(self.range.last().range), 2.0, step=0.05), self.range.last().range)
         rospy.set_param('/sim/firmware/ranger_front/range', 1.23)
         t0 = time.monotonic()
         time.sleep(3.0)
@@ -116,9 +88,9 @@ class I2cBoardsTest(unittest.TestCase):
 
     def test_5_compass_bearing_in_degrees(self):
         rospy.set_param('/sim/firmware/compass/bearing', 359.9)
-        self.assertTrue(wait_for(lambda: abs(self.bearing.last().degrees - 359.9) < 1e-6, 2.0))
+        self.assertTrue(wait_for(lambda: abs(self.bearing.last().degrees - 359.9) < 1e-6, 2.0, step=0.05))
         rospy.set_param('/sim/firmware/compass/bearing', 12.3)
-        self.assertTrue(wait_for(lambda: abs(self.bearing.last().degrees - 12.3) < 1e-6, 2.0))
+        self.assertTrue(wait_for(lambda: abs(self.bearing.last().degrees - 12.3) < 1e-6, 2.0, step=0.05))
 
     def latest_status(self, t0):
         statuses = {}

@@ -11,50 +11,23 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hcl_drivers.msg import BeaconReceiverState, EncoderCounter, HBMotorState, JoystickState, MotorCommand
 from robot_sim.srv import InjectFault
 from std_msgs.msg import Int32
-
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=1000)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout, step=0.02):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(step)
-    return pred()
+from test_support import Recorder, wait_for
 
 
 class I2cFaultsTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_i2c_faults')
-        cls.duty = Recorder('/sim/motor_left/duty', Int32)
-        cls.motor = Recorder('/hcl/motor_left/state', HBMotorState)
-        cls.encoder = Recorder('/hcl/motor_left/encoder/left', EncoderCounter)
-        cls.beacons = Recorder('/hcl/beacons/state', BeaconReceiverState)
-        cls.joystick = Recorder('/hcl/joystick/state', JoystickState)
-        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray)
+        cls.duty = Recorder('/sim/motor_left/duty', Int32, queue_size=1000)
+        cls.motor = Recorder('/hcl/motor_left/state', HBMotorState, queue_size=1000)
+        cls.encoder = Recorder('/hcl/motor_left/encoder/left', EncoderCounter, queue_size=1000)
+        cls.beacons = Recorder('/hcl/beacons/state', BeaconReceiverState, queue_size=1000)
+        cls.joystick = Recorder('/hcl/joystick/state', JoystickState, queue_size=1000)
+        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray, queue_size=1000)
         cls.cmd = rospy.Publisher('/hcl/motor_left/motor/left/command', MotorCommand, queue_size=1)
         rospy.wait_for_service('/sim/inject_fault', 30.0)
         cls.inject = rospy.ServiceProxy('/sim/inject_fault', InjectFault)
-        assert wait_for(lambda: cls.motor.last() and cls.beacons.last() and cls.joystick.last(), 40.0), 'boards not up'
+        assert wait_for(lambda: cls.motor.last() and cls.beacons.last() and cls.joystick.last(), 40.0, step=0.02), 'boards not up'
 
     def fault(self, kind, target, clear=False):
         r = self.inject(kind=kind, target=target, start=0.0, duration=0.0, magnitude=0.0, clear=clear)
@@ -80,18 +53,18 @@ class I2cFaultsTest(unittest.TestCase):
                                                   for _ in iter(stop.is_set, True)])
         feeder.start()
         try:
-            self.assertTrue(wait_for(lambda: self.duty.last() and self.duty.last().data == 60, 3.0))
+            self.assertTrue(wait_for(lambda: self.duty.last() and self.duty.last().data == 60, 3.0, step=0.02))
             t0 = time.monotonic()
             self.fault('board_silent', 'motor_left')
             # The driver keeps commanding, but nothing reaches the board: its own watchdog (0.25 s) stops it.
-            self.assertTrue(wait_for(lambda: self.duty.last().data == 0, 1.5), 'motor kept running on a silent board')
+            self.assertTrue(wait_for(lambda: self.duty.last().data == 0, 1.5, step=0.02), 'motor kept running on a silent board')
             self.assertTrue(wait_for(lambda: self.level('motor_left', t0 + 0.2) is not None and self.level(
-                'motor_left', t0 + 0.2).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0))
-            self.assertTrue(wait_for(lambda: self.level('motor_right', t0 + 0.5) is not None, 2.0))
+                'motor_left', t0 + 0.2).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0, step=0.02))
+            self.assertTrue(wait_for(lambda: self.level('motor_right', t0 + 0.5) is not None, 2.0, step=0.02))
             other = self.level('motor_right', t0 + 0.5)
             self.assertEqual(other.level, DiagnosticStatus.OK, 'a silent board must not disturb its bus neighbours')
             self.fault('board_silent', 'motor_left', clear=True)
-            self.assertTrue(wait_for(lambda: self.duty.last().data == 60, 3.0), 'did not recover')
+            self.assertTrue(wait_for(lambda: self.duty.last().data == 60, 3.0, step=0.02), 'did not recover')
         finally:
             self.inject(kind='board_silent', target='motor_left', start=0.0, duration=0.0, magnitude=0.0, clear=True)
             stop.set()
@@ -100,8 +73,8 @@ class I2cFaultsTest(unittest.TestCase):
     def test_2_rebooted_board_is_detected(self):
         resets = self.encoder.last().board_resets
         self.fault('board_reset', 'motor_left')
-        self.assertTrue(wait_for(lambda: self.encoder.last().board_resets == resets + 1, 2.0))
-        self.assertTrue(wait_for(lambda: self.motor.last().watchdog == 25, 2.0), 'watchdog not reconfigured')
+        self.assertTrue(wait_for(lambda: self.encoder.last().board_resets == resets + 1, 2.0, step=0.02))
+        self.assertTrue(wait_for(lambda: self.motor.last().watchdog == 25, 2.0, step=0.02), 'watchdog not reconfigured')
 
     def test_3_serial_garbage_is_counted_and_deltas_keep_coming(self):
         before = self.beacons.last()
@@ -118,11 +91,11 @@ class I2cFaultsTest(unittest.TestCase):
     def test_4_unplugged_joystick_is_reported_and_comes_back(self):
         t0 = time.monotonic()
         self.fault('board_silent', 'joystick')
-        self.assertTrue(wait_for(lambda: not self.joystick.last().connected, 2.0))
+        self.assertTrue(wait_for(lambda: not self.joystick.last().connected, 2.0, step=0.02))
         self.assertTrue(wait_for(lambda: self.level('joystick', t0 + 0.3) is not None and self.level(
-            'joystick', t0 + 0.3).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0))
+            'joystick', t0 + 0.3).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0, step=0.02))
         self.fault('board_silent', 'joystick', clear=True)
-        self.assertTrue(wait_for(lambda: self.joystick.last().connected, 3.0))
+        self.assertTrue(wait_for(lambda: self.joystick.last().connected, 3.0, step=0.02))
 
 
 if __name__ == '__main__':

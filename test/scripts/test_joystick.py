@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
 """Joystick driver against the emulated js_event FIFO."""
 import sys
-import threading
 import time
 import unittest
 
@@ -12,43 +11,16 @@ from hcl_drivers.msg import JoystickState
 from sensor_msgs.msg import Joy
 from std_msgs.msg import Int16MultiArray, UInt8MultiArray
 from std_srvs.srv import SetBool
-
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=1000)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout, step=0.01):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(step)
-    return pred()
+from test_support import Recorder, wait_for
 
 
 class JoystickTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_joystick')
-        cls.joy = Recorder('/hcl/joystick/joy', Joy)
-        cls.state = Recorder('/hcl/joystick/state', JoystickState)
-        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray)
+        cls.joy = Recorder('/hcl/joystick/joy', Joy, queue_size=1000)
+        cls.state = Recorder('/hcl/joystick/state', JoystickState, queue_size=1000)
+        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray, queue_size=1000)
         cls.axes = rospy.Publisher('/sim/js/axes', Int16MultiArray, queue_size=10)
         cls.buttons = rospy.Publisher('/sim/js/buttons', UInt8MultiArray, queue_size=10)
         rospy.wait_for_service('/sim/js/plugged', 30.0)

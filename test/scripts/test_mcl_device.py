@@ -16,7 +16,7 @@ from nav_msgs.msg import Odometry
 from std_srvs.srv import Empty
 from visualization_msgs.msg import MarkerArray
 
-from hal_test_common import DeviceDiagnostics, value, yaw_of
+from test_support import DeviceDiagnostics, value, yaw_of
 
 BEACONS = [(-0.062, -0.062), (-0.062, 2.162), (3.062, 1.05)]
 

@@ -36,6 +36,7 @@ from hal_nodes.msg import BeaconRange, LocalizationQuality
 from nav_msgs.msg import Odometry
 from robot_sim.srv import InjectFault, Teleport
 from std_srvs.srv import Empty
+from test_support import percentile
 
 # The targets are RMSE < 10 mm and max < 40 mm on its synthetic runs. In the whole
 # simulation the emulated beacon timing noise alone (2e-5 s, 6.9 mm per range) gives ~8 mm RMS
@@ -54,11 +55,6 @@ KIDNAP_RECOVER_LIMIT = 15.0
 
 def wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
-
-
-def percentile(values, q):
-    s = sorted(values)
-    return s[min(len(s) - 1, int(round(q / 100.0 * (len(s) - 1))))] if s else float('nan')
 
 
 class Record(object):

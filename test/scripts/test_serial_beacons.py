@@ -2,7 +2,6 @@
 """Beacon receiver over a pty with garbage and truncated messages injected by the emulator."""
 import subprocess
 import sys
-import threading
 import time
 import unittest
 
@@ -11,54 +10,27 @@ import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hcl_drivers.msg import BeaconDelta, BeaconReceiverState
 from std_msgs.msg import Float64MultiArray, UInt32MultiArray
-
-
-class Recorder(object):
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=1000)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.time(), msg))
-
-    def all(self):
-        with self.lock:
-            return list(self.items)
-
-    def last(self):
-        with self.lock:
-            return self.items[-1][1] if self.items else None
-
-
-def wait_for(pred, timeout, step=0.05):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(step)
-    return pred()
+from test_support import Recorder, wait_for
 
 
 class SerialBeaconsTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_serial_beacons')
-        cls.sent = Recorder('/sim/beacons/sent', Float64MultiArray)
-        cls.injected = Recorder('/sim/beacons/injected', UInt32MultiArray)
-        cls.delta = Recorder('/hcl/beacons/delta', BeaconDelta)
-        cls.state = Recorder('/hcl/beacons/state', BeaconReceiverState)
-        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray)
-        assert wait_for(lambda: len(cls.delta.all()) > 20, 30.0), 'no beacon deltas'
+        cls.sent = Recorder('/sim/beacons/sent', Float64MultiArray, queue_size=1000)
+        cls.injected = Recorder('/sim/beacons/injected', UInt32MultiArray, queue_size=1000)
+        cls.delta = Recorder('/hcl/beacons/delta', BeaconDelta, queue_size=1000)
+        cls.state = Recorder('/hcl/beacons/state', BeaconReceiverState, queue_size=1000)
+        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray, queue_size=1000)
+        assert wait_for(lambda: len(cls.delta.since()) > 20, 30.0, step=0.05), 'no beacon deltas'
 
     def test_1_every_valid_message_comes_through_in_order(self):
-        t0 = time.time()
+        t0 = time.time()  # wall clock, as the emulator stamps data[3]
         time.sleep(4.0)
         t1 = time.time() - 0.3
-        sent = [(m.data[3], int(m.data[0]), int(m.data[1])) for _, m in self.sent.all() if t0 <= m.data[3] <= t1]
+        sent = [(m.data[3], int(m.data[0]), int(m.data[1])) for _, m in self.sent.since() if t0 <= m.data[3] <= t1]
         self.assertGreater(len(sent), 100)
-        got = [(m.header.stamp.to_sec(), m.beacon_id, m.delta_us) for _, m in self.delta.all()]
+        got = [(m.header.stamp.to_sec(), m.beacon_id, m.delta_us) for _, m in self.delta.since()]
         keys = [(i, d) for _, i, d in got]
         pos = 0
         missing = []
@@ -85,7 +57,7 @@ class SerialBeaconsTest(unittest.TestCase):
         self.assertGreater(s.malformed, 0)  # truncated messages end malformed
         self.assertLessEqual(s.garbage_bytes, garbage_injected + 12)
         # Nothing but real beacons: ids 0..2 and the emulator's delta ranges.
-        for _, m in self.delta.all():
+        for _, m in self.delta.since():
             self.assertIn(m.beacon_id, (0, 1, 2))
             self.assertIn(m.delta_us - (3000, 4500, 6000)[m.beacon_id], range(0, 1000))
         self.assertEqual(len(s.delta_us), 3)
@@ -93,14 +65,14 @@ class SerialBeaconsTest(unittest.TestCase):
 
     def statuses(self, t0):
         out = {}
-        for t, arr in self.diagnostics.all():
+        for t, arr in self.diagnostics.since():
             if t >= t0:
                 for st in arr.status:
                     out[st.name] = st
         return out
 
     def test_3_diagnostics_ok_with_counters(self):
-        t0 = time.time()
+        t0 = time.monotonic()
         time.sleep(1.0)
         st = [s for n, s in self.statuses(t0).items() if 'hcl/beacons:' in n]
         self.assertTrue(st)
@@ -111,7 +83,7 @@ class SerialBeaconsTest(unittest.TestCase):
 
     def test_9_receiver_gone_is_reported_and_nothing_crashes(self):
         subprocess.check_call(['rosnode', 'kill', '/sim/firmware'], stdout=subprocess.DEVNULL)
-        killed = time.time()
+        killed = time.monotonic()
         time.sleep(1.5)
         st = [s for n, s in self.statuses(killed + 1.0).items() if 'hcl/beacons:' in n]
         self.assertTrue(st)

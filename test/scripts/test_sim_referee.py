@@ -22,7 +22,7 @@ from robot_sim.msg import MatchState, ScoreEvents
 from smart_brain.msg import MatchStatus
 from std_srvs.srv import Trigger
 
-from hal_test_common import DeviceDiagnostics, Recorder, is_ok, wait_for
+from test_support import DeviceDiagnostics, Recorder, is_ok, wait_for
 
 
 def leaves(agg):

@@ -14,7 +14,7 @@ from robot_sim.msg import CanFirmware
 from robot_sim.srv import SetSwitch
 from smart_brain.msg import MatchStatus
 
-from hal_test_common import Recorder, wait_for
+from test_support import Recorder, wait_for
 
 
 def cord_bit(inputs):

@@ -7,7 +7,6 @@ import math
 import os
 import signal
 import subprocess
-import threading
 import time
 import unittest
 
@@ -21,40 +20,15 @@ from robot_sim.srv import InjectFault, PlaceOpponent, SetSwitch, Teleport
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Int32
 from visualization_msgs.msg import MarkerArray
+from test_support import Latest
 
 RTF = 4.0
 
 
 
 
-class Latest(object):
-    """The newest message of a topic, plus every message if asked."""
-
-    def __init__(self, topic, msg_type, keep=False):
-        self.lock = threading.Lock()
-        self.msg = None
-        self.all = [] if keep else None
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=100)
-
-    def _cb(self, m):
-        with self.lock:
-            self.msg = m
-            if self.all is not None:
-                self.all.append(m)
-
-    def get(self, timeout=10.0, pred=None):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            with self.lock:
-                m = self.msg
-            if m is not None and (pred is None or pred(m)):
-                return m
-            time.sleep(0.02)
-        return None
-
-
 def sim_now(clock):
-    m = clock.get()
+    m = clock.wait()
     return m.clock.to_sec() if m else 0.0
 
 
@@ -96,12 +70,12 @@ class SimServicesTest(unittest.TestCase):
         time.sleep(2.0)
         t1, w1 = sim_now(self.clock), time.monotonic()
         self.assertAlmostEqual((t1 - t0) / (w1 - w0), RTF, delta=0.6)
-        m = self.truth.get()
+        m = self.truth.wait()
         self.assertEqual(m.header.frame_id, 'map')
         self.assertEqual(m.child_frame_id, 'base_link')
 
     def test_2_markers_elements_and_scripted_fault(self):
-        markers = self.markers.get()
+        markers = self.markers.wait()
         self.assertIsNotNone(markers)
         ns = set(m.ns for m in markers.markers)
         for want in ('table', 'borders', 'beacons', 'opponent', 'elements', 'start_zones', 'score_zones'):
@@ -114,17 +88,16 @@ class SimServicesTest(unittest.TestCase):
         pts = outline[0].points
         self.assertEqual(len(pts), 33)
         self.assertEqual((pts[0].x, pts[0].y), (pts[-1].x, pts[-1].y))
-        truth = self.truth.get().pose.pose.position
+        truth = self.truth.wait().pose.pose.position
         radius = rospy.get_param('/sim/world/robot/radius')
         for p in pts:
             self.assertAlmostEqual(math.hypot(p.x - truth.x, p.y - truth.y), radius, delta=1e-6)
-        elements = self.elements.get()
+        elements = self.elements.wait()
         self.assertEqual(len(elements.elements), 12)
         self.assertTrue(all(e.kind.startswith('column') for e in elements.elements))
         # ~faults: beacon 1 silent from t=10 to t=12 (late enough for this node to listen).
         wait_sim(self.clock, 12.5)
-        with self.faults.lock:
-            history = [(m.header.stamp.to_sec(), list(zip(m.kinds, m.targets))) for m in self.faults.all]
+        history = [(m.header.stamp.to_sec(), list(zip(m.kinds, m.targets))) for m in self.faults.since()]
         on = [t for t, f in history if ('beacon_silent', '1') in f]
         self.assertTrue(on, history)
         self.assertAlmostEqual(min(on), 10.0, delta=0.01)
@@ -137,14 +110,14 @@ class SimServicesTest(unittest.TestCase):
         self.assertFalse(self.teleport(Pose2D(4.0, 1.0, 0.0)).ok)
         self.assertTrue(self.teleport(Pose2D(1.2, 0.9, 0.7)).ok)
         t = sim_now(self.clock)
-        m = self.truth.get(pred=lambda m: m.header.stamp.to_sec() > t + 0.05)
+        m = self.truth.wait(pred=lambda m: m.header.stamp.to_sec() > t + 0.05)
         self.assertAlmostEqual(m.pose.pose.position.x, 1.2, delta=1e-6)
         self.assertAlmostEqual(m.pose.pose.position.y, 0.9, delta=1e-6)
         self.assertAlmostEqual(yaw_of(m.pose.pose.orientation), 0.7, delta=1e-6)
         self.assertTrue(self.place(Pose2D(2.6, 0.4, 1.0), True).ok)
         t = sim_now(self.clock)
         wait_sim(self.clock, t + 2.0)
-        o = self.opponent.get()
+        o = self.opponent.wait()
         self.assertAlmostEqual(o.pose.pose.position.x, 2.6, delta=1e-6)  # held: the random walk waits
         self.assertAlmostEqual(o.pose.pose.position.y, 0.4, delta=1e-6)
 
@@ -168,11 +141,11 @@ class SimServicesTest(unittest.TestCase):
         self.assertTrue(r.ok, r.message)
         self.assertEqual(r.message, 'scheduled')
         wait_sim(self.clock, now + 0.95)
-        before = yaw_of(self.truth.get().pose.pose.orientation)
+        before = yaw_of(self.truth.wait().pose.pose.orientation)
         wait_sim(self.clock, now + 2.1)
-        during = yaw_of(self.truth.get().pose.pose.orientation)
+        during = yaw_of(self.truth.wait().pose.pose.orientation)
         wait_sim(self.clock, now + 2.6)
-        after = yaw_of(self.truth.get().pose.pose.orientation)
+        after = yaw_of(self.truth.wait().pose.pose.orientation)
         self.drive(0.0, 0.0)
         self.assertLess(abs(before), 0.02)
         self.assertGreater(during - before, 0.2)
@@ -184,27 +157,27 @@ class SimServicesTest(unittest.TestCase):
         r = self.inject(kind='opponent_blocks', duration=2.0, magnitude=0.05)
         self.assertTrue(r.ok, r.message)
         wait_sim(self.clock, now + 0.2)
-        us, them = self.truth.get(), self.opponent.get()
+        us, them = self.truth.wait(), self.opponent.wait()
         dx = them.pose.pose.position.x - us.pose.pose.position.x
         dy = them.pose.pose.position.y - us.pose.pose.position.y
         self.assertAlmostEqual(math.hypot(dx, dy), 0.16 + 0.16 + 0.05, delta=0.02)
         self.drive(0.3, 0.3)
         wait_sim(self.clock, now + 1.5)
-        us2 = self.truth.get()
+        us2 = self.truth.wait()
         self.drive(0.0, 0.0)
         self.assertAlmostEqual(us2.twist.twist.linear.x, 0.0, delta=1e-9)
 
     def test_5_start_cord_starts_the_match(self):
-        m = self.match.get()
+        m = self.match.wait()
         self.assertFalse(m.started)
         self.assertEqual(m.year, '2009')
         self.assertFalse(self.switch('no_such_switch', False).ok)
         self.assertTrue(self.switch('start_cord', False).ok)
-        m = self.match.get(pred=lambda m: m.started and m.elapsed > 0.5)
+        m = self.match.wait(pred=lambda m: m.started and m.elapsed > 0.5)
         self.assertIsNotNone(m)
         # One match length for the robot and the referee: the brain's (config brain/match/duration).
         self.assertAlmostEqual(m.elapsed + m.remaining, rospy.get_param('/brain/match/duration'), delta=1e-6)
-        self.assertIsNotNone(self.score.get())
+        self.assertIsNotNone(self.score.wait())
 
     def test_6_a_bad_parameter_stops_the_simulator_with_one_line(self):
         env = dict(os.environ)

@@ -2,7 +2,6 @@
 """System test of the skeleton robot (launch/skeleton.launch against its firmware emulator)."""
 import subprocess
 import sys
-import threading
 import time
 import unittest
 
@@ -12,6 +11,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hal_nodes.msg import ExampleReading
 from hcl_drivers.msg import ExampleBoardState
 from robot_sim.msg import ExampleFirmware
+from test_support import Recorder
 
 BOARD_RATE = 50.0   # config/skeleton.yaml hcl/example_board/rate
 DEVICE_RATE = 20.0  # config/skeleton.yaml hal/example_device/rate
@@ -22,31 +22,14 @@ def lamp_for(dial_raw):
     return round(255.0 * dial_raw / 1023.0)
 
 
-class Recorder(object):
-    """Keeps (receive time, message) of a topic."""
-
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.items = []
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=200)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.items.append((time.monotonic(), msg))
-
-    def since(self, t0):
-        with self.lock:
-            return [(t, m) for t, m in self.items if t >= t0]
-
-
 class SkeletonTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_skeleton')
-        cls.firmware = Recorder('/sim/example_board/firmware', ExampleFirmware)
-        cls.board = Recorder('/hcl/example_board/state', ExampleBoardState)
-        cls.reading = Recorder('/hal/example_device/reading', ExampleReading)
-        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray)
+        cls.firmware = Recorder('/sim/example_board/firmware', ExampleFirmware, queue_size=200)
+        cls.board = Recorder('/hcl/example_board/state', ExampleBoardState, queue_size=200)
+        cls.reading = Recorder('/hal/example_device/reading', ExampleReading, queue_size=200)
+        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray, queue_size=200)
         # Wait for the whole chain to run: lamp PWM (set by the brain) must reach the firmware.
         deadline = time.monotonic() + 40.0
         while time.monotonic() < deadline:

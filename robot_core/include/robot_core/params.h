@@ -32,6 +32,13 @@ class Params {
 
   // A sub-namespace ("limits"); empty (every optional value at its default) when absent.
   Params operator[](const std::string& name) const;
+  // The same, refusing a value that is present but not a dictionary.
+  Params block(const std::string& name) const;
+  // The names of the dictionaries under a dictionary `name` (motors: {left: {..}, right: {..}}),
+  // in key order; none when absent.
+  std::vector<std::string> blockNames(const std::string& name) const;
+  // The dictionaries of a list `name` (zones: [{..}, {..}]), named "<name>[i]"; none when absent.
+  std::vector<Params> items(const std::string& name) const;
   const std::string& ns() const { return ns_; }
   std::string qualified(const std::string& name) const;
   bool has(const std::string& name) const;
@@ -43,6 +50,12 @@ class Params {
   int optionalInt(const std::string& name, int fallback) const;
   bool optionalBool(const std::string& name, bool fallback) const;
   std::string optionalString(const std::string& name, const std::string& fallback) const;
+  // A list of numbers, empty when absent; its length must be in [min_size, max_size].
+  std::vector<double> optionalDoubleList(const std::string& name, std::size_t min_size = 0,
+                                         std::size_t max_size = static_cast<std::size_t>(-1)) const;
+  // A list of lists of `width` numbers each ([[x, y], ..] for width 2), empty when absent.
+  std::vector<std::vector<double>> optionalDoubleRows(const std::string& name, std::size_t width) const;
+  std::vector<std::string> optionalStringList(const std::string& name) const;
 
   void requirePositive(const std::string& name, double value) const;
   void requireInRange(const std::string& name, double value, double lo, double hi) const;

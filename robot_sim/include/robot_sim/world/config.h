@@ -14,13 +14,13 @@ namespace XmlRpc {
 class XmlRpcValue;
 }
 
+#include <robot_core/parameter_error.h>
+
 namespace robot_sim {
 
-// A bad parameter: what() is the one line naming the parameter and the allowed values.
-class ConfigError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// A bad parameter: what() is the one line naming the parameter and the allowed values (the
+// error of robot_core's reader, which reads the world's tree).
+using ConfigError = robot_core::ParameterError;
 
 struct Point2D {
   double x = 0.0;

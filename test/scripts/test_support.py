@@ -1,5 +1,5 @@
-"""Shared helpers of the HAL rostests (test_hal_*.py): topic recorders that can wait for their
-connection, bounded waits, device diagnostics, and the effector switch with its service
+"""Shared helpers of the Python rostests: bounded waits, topic recorders (every message, or the
+newest one), percentiles, device diagnostics, and the effector switch with its service
 connections opened in advance (so a measured deactivation latency starts when the request is
 sent, not at the master lookup of the service)."""
 import math
@@ -10,8 +10,6 @@ import rospy
 from robot_core.geometry import yaw_of  # noqa: F401 (also for the tests that import it from here)
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from std_srvs.srv import Trigger
-
-
 
 
 def wait_for(pred, timeout, step=0.01):
@@ -26,7 +24,7 @@ def wait_for(pred, timeout, step=0.01):
 
 
 class Recorder(object):
-    """Keeps (receive time, message) of a topic."""
+    """Keeps (receive time, message) of a topic; times are time.monotonic()."""
 
     def __init__(self, topic, msg_type, queue_size=500):
         self.lock = threading.Lock()
@@ -42,17 +40,74 @@ class Recorder(object):
         is not lost to a subscription still being set up."""
         return bool(wait_for(lambda: self.sub.get_num_connections() > 0, timeout))
 
-    def since(self, t0):
+    def since(self, t0=0.0):
+        """(time, message) of those received at or after t0."""
         with self.lock:
             return [(t, m) for t, m in self.items if t >= t0]
 
-    def messages(self):
+    def messages(self, t0=0.0):
+        """The messages received at or after t0."""
         with self.lock:
-            return [m for _, m in self.items]
+            return [m for t, m in self.items if t >= t0]
 
     def last(self):
         with self.lock:
             return self.items[-1][1] if self.items else None
+
+    def wait_for(self, pred, timeout):
+        """The newest message once it satisfies pred within timeout [s], else None."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            m = self.last()
+            if m is not None and pred(m):
+                return m
+            time.sleep(0.02)
+        return None
+
+
+class Latest(object):
+    """The newest message of a topic; with keep=True also (receive time, message) of every one
+    in `items` (times are time.monotonic())."""
+
+    def __init__(self, topic, msg_type, keep=False, queue_size=100):
+        self.lock = threading.Lock()
+        self.msg = None
+        self.items = [] if keep else None
+        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=queue_size, tcp_nodelay=True)
+
+    def _cb(self, m):
+        with self.lock:
+            self.msg = m
+            if self.items is not None:
+                self.items.append((time.monotonic(), m))
+
+    def get(self):
+        """The newest message now, or None."""
+        with self.lock:
+            return self.msg
+
+    def wait(self, timeout=10.0, pred=None):
+        """The newest message once there is one (satisfying pred if given) within timeout [s],
+        else None."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            m = self.get()
+            if m is not None and (pred is None or pred(m)):
+                return m
+            time.sleep(0.02)
+        return None
+
+    def since(self, t0=0.0):
+        """The kept messages received at or after t0 (keep=True)."""
+        with self.lock:
+            return [m for t, m in self.items if t >= t0]
+
+
+def percentile(values, q):
+    """The q-th percentile (0..100) of values: the sorted value nearest the rank
+    q/100 * (n - 1), no interpolation; NaN if there are none."""
+    s = sorted(values)
+    return s[min(len(s) - 1, int(round(q / 100.0 * (len(s) - 1))))] if s else float('nan')
 
 
 class DeviceDiagnostics(object):
