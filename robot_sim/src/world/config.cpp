@@ -180,9 +180,10 @@ RobotConfig parseRobot(const Params& n) {
     c.min_range = nonNegative(g, "min_range", sharp ? 0.10 : 0.03);
     c.max_range = positive(g, "max_range", sharp ? 0.80 : 6.0);
     if (c.max_range <= c.min_range) fail(g, "max_range", "must be > min_range");
-    // SRF02: the datasheet's ~55 deg cone, the field_of_view its HCL driver reports (hcl_drivers
-    // srf02_registers.h), so the localization and the avoidance measure the echo the sim makes.
-    c.beam_width = inRange(g, "beam_width", sharp ? 0.06 : 0.96, 0.0, 3.0);
+    // The beam the HCL drivers report as field_of_view (SRF02: the datasheet's ~55 deg cone,
+    // hcl_drivers srf02_registers.h; GP2D12: 0.08 rad, servo_board.cpp), so the localization and
+    // the avoidance, which measure over the reported cone, expect the echo the sim makes.
+    c.beam_width = inRange(g, "beam_width", sharp ? 0.08 : 0.96, 0.0, 3.0);
     c.noise_std = nonNegative(g, "noise_std", sharp ? 0.005 : 0.01);
     c.noise_rel = nonNegative(g, "noise_rel", sharp ? 0.03 : 0.0);
     c.sees_elements = boolean(g, "sees_elements", false);
