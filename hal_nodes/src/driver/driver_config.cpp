@@ -124,6 +124,7 @@ DriverDeviceConfig readDriverDeviceConfig(const Params& p) {
   a.requirePositive("detour_tolerance", c.detour_tolerance);
   c.max_obstacle_age = a.optionalDouble("max_obstacle_age", c.max_obstacle_age);
   a.requirePositive("max_obstacle_age", c.max_obstacle_age);
+  c.rangers = a.optionalStringList("rangers");
   c.ranger_prefix = a.optionalString("ranger_prefix", c.ranger_prefix);
   c.opponent_topic = a.optionalString("opponent_topic", c.opponent_topic);
   return c;

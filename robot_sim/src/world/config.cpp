@@ -8,20 +8,15 @@
 #include "robot_sim/world/footprint.h"
 
 #include <cmath>
-#include <sstream>
+#include <limits>
 
 namespace robot_sim {
 namespace {
 
 using robot_core::Params;
 
-// The world's values read with robot_core's Params (the reader every layer uses); these add the
-// checks the world needs, each failing with the one line naming the parameter.
-std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+// The world's values read with robot_core's Params (the reader every layer uses) and its rules;
+// these only name the checks the world needs, each failing with the one line naming the parameter.
 [[noreturn]] void fail(const Params& n, const std::string& k, const std::string& what) {
   n.check(k, what);
   throw ConfigError("parameter " + n.ns() + ": " + what);  // check() always throws for a reason
@@ -33,18 +28,16 @@ double num(const Params& n, const std::string& k, double def) {
 }
 double positive(const Params& n, const std::string& k, double def) {
   const double v = num(n, k, def);
-  if (!(v > 0.0)) fail(n, k, "= " + fmt(v) + ": must be > 0");
-  return v;
-}
-double nonNegative(const Params& n, const std::string& k, double def) {
-  const double v = num(n, k, def);
-  if (v < 0.0) fail(n, k, "= " + fmt(v) + ": must be >= 0");
+  n.requirePositive(k, v);
   return v;
 }
 double inRange(const Params& n, const std::string& k, double def, double lo, double hi) {
   const double v = num(n, k, def);
-  if (v < lo || v > hi) fail(n, k, "= " + fmt(v) + ": must be in [" + fmt(lo) + ", " + fmt(hi) + "]");
+  n.requireInRange(k, v, lo, hi);
   return v;
+}
+double nonNegative(const Params& n, const std::string& k, double def) {
+  return inRange(n, k, def, 0.0, std::numeric_limits<double>::infinity());
 }
 long integer(const Params& n, const std::string& k, long def) { return n.optionalInt(k, static_cast<int>(def)); }
 bool boolean(const Params& n, const std::string& k, bool def) { return n.optionalBool(k, def); }

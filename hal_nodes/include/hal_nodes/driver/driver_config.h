@@ -7,6 +7,7 @@
 #include <robot_core/params.h>
 
 #include <string>
+#include <vector>
 
 #include "hal_nodes/driver/autopilot.h"
 #include "hal_nodes/driver/avoidance.h"
@@ -42,6 +43,7 @@ struct DriverDeviceConfig {
   // avoidance/
   double detour_tolerance = 0.05;  // [m] a detour waypoint counts as passed this close
   double max_obstacle_age = 0.3;   // [s] older echoes are not obstacles
+  std::vector<std::string> rangers;  // names on ranger_prefix whose echoes are obstacles
   std::string ranger_prefix = "/hal/rangers/", opponent_topic;
 };
 DriverDeviceConfig readDriverDeviceConfig(const robot_core::Params& driver);

@@ -35,11 +35,7 @@ void Driver::subscribeInputs(DeviceContext& ctx) {
   edit_sub_ = ctx.pnh.subscribe("path_edit", 20, &Driver::onPathEdit, this);
   if (!settings_.motor_status.empty()) diag_sub_ = ctx.nh.subscribe("/diagnostics", 20, &Driver::onDiagnostics, this);
   if (avoidance_.config().mode == AvoidanceConfig::Mode::OFF) return;
-  ros::NodeHandle pa(ctx.pnh, "avoidance");
-  std::vector<std::string> names;
-  if (pa.hasParam("rangers") && !pa.getParam("rangers", names))
-    throw ParameterError("parameter " + qualified(pa, "rangers") + ": must be a list of ranger names");
-  for (const auto& n : names)
+  for (const auto& n : settings_.rangers)
     rangers_.push_back(addInput<sensor_msgs::Range>(ctx.nh, settings_.ranger_prefix + n, "ranger " + n));
   if (!settings_.opponent_topic.empty())
     opponent_ = addInput<geometry_msgs::PointStamped>(ctx.nh, settings_.opponent_topic, "opponent");

@@ -11,8 +11,6 @@ namespace hal_nodes::mcl {
 TableModel::TableModel(double length, double width, double margin, std::vector<Rect> obstacles)
     : CheckingInput("table", 1.0),
       geometry_(length, width, std::move(obstacles)),
-      length_(length),
-      width_(width),
       margin_(margin) {
   if (!(margin >= 0.0) || 2.0 * margin >= std::min(length, width))
     throw std::invalid_argument("table: margin must be >= 0 and leave free space");
@@ -20,7 +18,7 @@ TableModel::TableModel(double length, double width, double margin, std::vector<R
 }
 
 bool TableModel::isFree(double x, double y) const {
-  if (x < margin_ || x > length_ - margin_ || y < margin_ || y > width_ - margin_) return false;
+  if (x < margin_ || x > length() - margin_ || y < margin_ || y > width() - margin_) return false;
   for (const auto& r : inflated_)
     if (x > r.x0 && x < r.x1 && y > r.y0 && y < r.y1) return false;
   return true;
@@ -28,11 +26,11 @@ bool TableModel::isFree(double x, double y) const {
 
 void TableModel::project(double& x, double& y) const {
   if (!std::isfinite(x) || !std::isfinite(y)) {
-    x = 0.5 * length_;
-    y = 0.5 * width_;
+    x = 0.5 * length();
+    y = 0.5 * width();
   }
-  x = std::clamp(x, margin_, length_ - margin_);
-  y = std::clamp(y, margin_, width_ - margin_);
+  x = std::clamp(x, margin_, length() - margin_);
+  y = std::clamp(y, margin_, width() - margin_);
   // Out of an obstacle through its nearest side (repeat: pushed into a neighbour).
   for (int pass = 0; pass < 4; ++pass) {
     bool moved = false;
@@ -44,8 +42,8 @@ void TableModel::project(double& x, double& y) const {
       if (k == 1) x = r.x1;
       if (k == 2) y = r.y0;
       if (k == 3) y = r.y1;
-      x = std::clamp(x, margin_, length_ - margin_);
-      y = std::clamp(y, margin_, width_ - margin_);
+      x = std::clamp(x, margin_, length() - margin_);
+      y = std::clamp(y, margin_, width() - margin_);
       moved = true;
     }
     if (!moved) break;
@@ -54,10 +52,10 @@ void TableModel::project(double& x, double& y) const {
 
 Pose2D TableModel::sampleFree(Rng& rng) const {
   for (int tries = 0; tries < 1000; ++tries) {
-    const double x = rng.uniform(margin_, length_ - margin_), y = rng.uniform(margin_, width_ - margin_);
+    const double x = rng.uniform(margin_, length() - margin_), y = rng.uniform(margin_, width() - margin_);
     if (isFree(x, y)) return {x, y, rng.uniform(-M_PI, M_PI)};
   }
-  return {0.5 * length_, 0.5 * width_, rng.uniform(-M_PI, M_PI)};
+  return {0.5 * length(), 0.5 * width(), rng.uniform(-M_PI, M_PI)};
 }
 
 void TableModel::check(ParticleSet& set, const StepContext&) {
@@ -65,7 +63,7 @@ void TableModel::check(ParticleSet& set, const StepContext&) {
   const double* px = set.x.data();
   const double* py = set.y.data();
   double* w = set.w.data();
-  const double lo_x = margin_, hi_x = length_ - margin_, lo_y = margin_, hi_y = width_ - margin_;
+  const double lo_x = margin_, hi_x = length() - margin_, lo_y = margin_, hi_y = width() - margin_;
   if (inflated_.empty()) {
     for (std::size_t i = 0; i < n; ++i)
       if (px[i] < lo_x || px[i] > hi_x || py[i] < lo_y || py[i] > hi_y) w[i] = 0.0;

@@ -40,7 +40,7 @@ class TableModel : public CheckingInput {
 
  private:
   robot_core::TableGeometry geometry_;
-  double length_, width_, margin_;
+  double margin_;
   std::vector<Rect> inflated_;  // the blocks grown by the margin, for isFree
 };
 
