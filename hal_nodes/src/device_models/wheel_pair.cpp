@@ -4,9 +4,9 @@
 
 namespace hal_nodes {
 
-OdometryIncrement WheelPairModel::increment(int64_t left_ticks, int64_t right_ticks) const {
-  const double l = left_m_per_tick * static_cast<double>(left_ticks);
-  const double r = right_m_per_tick * static_cast<double>(right_ticks);
+OdometryIncrement WheelPairModel::increment(double left_ticks, double right_ticks) const {
+  const double l = left_m_per_tick * left_ticks;
+  const double r = right_m_per_tick * right_ticks;
   OdometryIncrement inc;
   inc.ds = 0.5 * (l + r);
   inc.dtheta = (r - l) / track_width;

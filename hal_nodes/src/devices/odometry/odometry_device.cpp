@@ -32,6 +32,7 @@
 #include "hal_nodes/device_nodelet.h"
 #include <robot_core/parameter_blocks.h>
 #include "hal_nodes/devices/odometry/encoder_tracker.h"
+#include "hal_nodes/devices/odometry/pair_alignment.h"
 #include "hal_nodes/devices/odometry/wheel_pair.h"
 
 namespace hal_nodes {
@@ -111,42 +112,46 @@ class OdometryDevice : public Device {
         if (pair.dropped_at_step < 0 || steps_ > pair.dropped_at_step) {
           pair.left_tracker.rebaseline();
           pair.right_tracker.rebaseline();
+          pair.alignment.restart();
         }
         pair.active = true;
       }
-      const ros::Time stamp = std::max(l->header.stamp, r->header.stamp);
-      // Integrate only when both counters are newer than the ones last used: the two arrive on
-      // separate connections, and one side alone would read as a turn (a lateral error that
-      // never comes back). Waiting costs at most one refresh; staleness still drops the pair.
-      const bool both_new = l->header.stamp > pair.left_used && r->header.stamp > pair.right_used;
-      if (!both_new && pair.left_tracker.hasBaseline() && pair.right_tracker.hasBaseline()) {
-        addPair(pair, OdometryIncrement(), fusion, newest, pair.last_stamp);  // no new exchange: no motion seen yet
+      if (l->header.stamp > pair.left_used) {
+        EncoderTracker::Event e;
+        pair.left_ticks += pair.left_tracker.update(l->raw, l->bits, l->board_resets, &e);
+        pair.left_used = l->header.stamp;
+        countEvent(pair, e);
+      }
+      if (r->header.stamp > pair.right_used) {
+        EncoderTracker::Event e;
+        pair.right_ticks += pair.right_tracker.update(r->raw, r->bits, r->board_resets, &e);
+        pair.right_used = r->header.stamp;
+        countEvent(pair, e);
+      }
+      // The step ends at the newest instant both counters reached (pair_alignment.h).
+      const auto step = pair.alignment.advance({pair.left_used.toSec(), static_cast<double>(pair.left_ticks)},
+                                               {pair.right_used.toSec(), static_cast<double>(pair.right_ticks)});
+      if (!step) {
+        addPair(pair, OdometryIncrement(), fusion, newest, pair.last_stamp);  // no new common instant: no motion seen yet
         speed_sum += pair.reliability * pair.speed;
         turn_sum += pair.reliability * pair.turn_rate;
         weight_sum += pair.reliability;
         continue;
       }
-      EncoderTracker::Event el, er;
-      const int64_t dl = pair.left_tracker.update(l->raw, l->bits, l->board_resets, &el);
-      const int64_t dr = pair.right_tracker.update(r->raw, r->bits, r->board_resets, &er);
-      countEvent(pair, el);
-      countEvent(pair, er);
-      OdometryIncrement inc = pair.model.increment(dl, dr);
-      const double dt = pair.last_stamp.isZero() ? 0.0 : (stamp - pair.last_stamp).toSec();
-      const double wheel_move = std::max(std::abs(pair.model.left_m_per_tick * dl), std::abs(pair.model.right_m_per_tick * dr));
-      if (dt > 0.0 && wheel_move > max_wheel_speed_ * dt + 1e-3) {
+      const ros::Time stamp = std::min(pair.left_used, pair.right_used);  // exactly the instant advance() chose
+      OdometryIncrement inc = pair.model.increment(step->left_ticks, step->right_ticks);
+      const double dt = step->dt;
+      const double wheel_move = std::max(std::abs(pair.model.left_m_per_tick * step->left_ticks),
+                                         std::abs(pair.model.right_m_per_tick * step->right_ticks));
+      if (wheel_move > max_wheel_speed_ * dt + 1e-3) {
         // Implausible jump (garbled counter, undetected reboot): drop and re-baseline.
         ++pair.rejected;
         ROS_WARN_THROTTLE(1.0, "odometry: pair %s jumped %.3f m in %.3f s, sample dropped", pair.name.c_str(), wheel_move, dt);
         inc = OdometryIncrement();
       }
-      if (dt > 0.0) {
-        pair.speed = inc.ds / dt;
-        pair.turn_rate = inc.dtheta / dt;
-      }
+      pair.speed = inc.ds / dt;
+      pair.turn_rate = inc.dtheta / dt;
       pair.last_stamp = stamp;
-      pair.left_used = l->header.stamp;
-      pair.right_used = r->header.stamp;
       addPair(pair, inc, fusion, newest, stamp);
       speed_sum += pair.reliability * pair.speed;
       turn_sum += pair.reliability * pair.turn_rate;
@@ -187,10 +192,12 @@ class OdometryDevice : public Device {
     double reliability = 1.0;
     std::shared_ptr<LatestValue<Counter>> left, right;
     EncoderTracker left_tracker, right_tracker;
+    int64_t left_ticks = 0, right_ticks = 0;  // unwrapped counts, summed from the trackers
+    PairAlignment alignment;
     PoseIntegrator integrator;
     ros::Publisher pub;
     ros::Time last_stamp;
-    ros::Time left_used, right_used;  // stamps of the counters last integrated
+    ros::Time left_used, right_used;  // stamps of the counters last fed to the trackers
     bool active = false;
     long dropped_at_step = -1;  // fused step count when it dropped out; -1: never used yet
     double speed = 0.0, turn_rate = 0.0;

@@ -18,7 +18,7 @@ struct WheelPairModel {
   double heading_noise = 0.01;    // [rad/sqrt(m)]: std of heading after 1 m straight
   double rotation_noise = 0.01;   // [rad/sqrt(rad)]: std of heading after a 1 rad turn
 
-  OdometryIncrement increment(int64_t left_ticks, int64_t right_ticks) const;
+  OdometryIncrement increment(double left_ticks, double right_ticks) const;  // ticks may be fractional (interpolated)
 };
 
 // Fuse the increments of several pairs, each with a reliability weight (> 0): the weighted
