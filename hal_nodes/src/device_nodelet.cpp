@@ -7,12 +7,22 @@
 
 namespace hal_nodes {
 
+namespace {
+constexpr double kGatherQuiet = 0.001;  // [s, wall]
+constexpr double kGatherLimit = 0.004;  // [s, wall]
+}  // namespace
+
 using diagnostic_msgs::DiagnosticStatus;
 using robot_core::optionalDouble;
 using robot_core::requireDouble;
 using robot_core::requirePositive;
 
 DeviceNodeletBase::~DeviceNodeletBase() {
+  {
+    std::lock_guard<std::mutex> lk(pace_mutex_);
+    shutting_down_ = true;  // no more woken refreshes are posted
+  }
+  gather_timer_.stop();
   refresh_timer_.stop();
   diagnostic_timer_.stop();
   deactivated_sub_.shutdown();
@@ -41,7 +51,9 @@ void DeviceNodeletBase::onInit() {
     required_ = robot_core::optionalBool(pnh, "required", true);
     started_ = ros::Time::now();
 
+    pacer_ = robot_core::LoopPacer(1.0 / rate_);
     device_ = createDevice();
+    device_->setWakeHandler([this](const ros::Time& stamp) { wake(stamp); });
     device_->init(ctx);
     effector_ = dynamic_cast<Effector*>(device_.get());
 
@@ -54,6 +66,12 @@ void DeviceNodeletBase::onInit() {
     if (effector_)
       deactivated_sub_ = getNodeHandle().subscribe("/effectors/deactivated", 1, &DeviceNodeletBase::onDeactivated, this);
     refresh_timer_ = getNodeHandle().createTimer(ros::Duration(1.0 / rate_), &DeviceNodeletBase::onTimer, this);
+    // The readings of one board exchange arrive on separate topics, a fraction of a millisecond
+    // apart: a woken refresh waits for kGatherQuiet without a new one (at most kGatherLimit
+    // after the first), so it takes them all in one run and one token of the pacer.
+    gather_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(kGatherQuiet), &DeviceNodeletBase::onGathered, this,
+                                                    true /* one-shot */, false /* started by wake() */);
+    initialized_ = true;  // from now on an arriving input may run refresh()
     NODELET_INFO("device %s refreshing at %.1f Hz%s", getName().c_str(), rate_, effector_ ? " (effector)" : "");
   } catch (const robot_core::ParameterError& e) {
     NODELET_FATAL("%s", e.what());
@@ -64,7 +82,67 @@ void DeviceNodeletBase::onInit() {
   }
 }
 
-void DeviceNodeletBase::onTimer(const ros::TimerEvent& e) {
+void DeviceNodeletBase::wake(const ros::Time& stamp) {
+  double delay = kGatherQuiet;
+  {
+    std::lock_guard<std::mutex> lk(pace_mutex_);
+    if (!initialized_ || shutting_down_) return;
+    const ros::WallTime now = ros::WallTime::now();
+    if (wake_posted_) {
+      // Still gathering: the refresh waits for a quiet moment after the burst, up to its limit.
+      // (A wake deferred to the rate limit already waits for its token.)
+      if (!gathering_ || (now - gather_started_).toSec() >= kGatherLimit) return;
+    } else {
+      // The other readings of an exchange that was already refreshed do not wake it again: one
+      // board exchange costs one run of the rate limit, however its topics were delayed.
+      if (stamp <= newest_woken_stamp_) return;
+      newest_woken_stamp_ = stamp;
+      pacer_.wake();
+      const double wait = pacer_.next() - ros::Time::now().toSec();  // > 0: no token yet
+      wake_posted_ = true;
+      gather_started_ = now;
+      gathering_ = wait <= 0.0;
+      if (!gathering_) {
+        ++wakes_deferred_;
+        delay = std::max(kGatherQuiet, wait);  // ROS time as wall time: under a faster clock the tick comes first
+      }
+    }
+  }
+  gather_timer_.stop();
+  gather_timer_.setPeriod(ros::WallDuration(delay));
+  gather_timer_.start();
+}
+
+void DeviceNodeletBase::onGathered(const ros::WallTimerEvent&) {
+  {
+    std::lock_guard<std::mutex> lk(pace_mutex_);
+    if (!pacer_.woken()) {  // a tick has refreshed meanwhile
+      wake_posted_ = false;
+      return;
+    }
+    const double wait = pacer_.next() - ros::Time::now().toSec();
+    if (wait > 0.0) {  // the token is not there yet (the clock runs slower than the wall): wait on
+      gathering_ = false;
+      gather_timer_.stop();  // a new one-shot: re-arming a firing one-shot is undone when its callback returns
+      gather_timer_.setPeriod(ros::WallDuration(std::max(kGatherQuiet, wait)));
+      gather_timer_.start();
+      return;
+    }
+    wake_posted_ = false;
+    ++woken_refreshes_;
+  }
+  refreshIfDue();
+}
+
+void DeviceNodeletBase::onTimer(const ros::TimerEvent&) { refreshIfDue(); }
+
+void DeviceNodeletBase::refreshIfDue() {
+  const double now = ros::Time::now().toSec();  // the rate meter, like the pacer, counts ROS time
+  {
+    std::lock_guard<std::mutex> lk(pace_mutex_);
+    if (!pacer_.due(now)) return;
+    pacer_.ran(now);
+  }
   const auto wall_start = std::chrono::steady_clock::now();
   std::string error;
   {
@@ -77,7 +155,7 @@ void DeviceNodeletBase::onTimer(const ros::TimerEvent& e) {
   }
   const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   std::lock_guard<std::mutex> lk(stats_mutex_);
-  meter_.tick(e.current_real.toSec(), busy);
+  meter_.tick(now, busy);
   if (!error.empty()) {
     ++refresh_errors_;
     last_error_ = error;
@@ -120,6 +198,11 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.addf("mean refresh time [ms]", "%.3f", 1e3 * meter_.meanBusy());
     stat.add("refresh errors", refresh_errors_);
     stat.add("last error", last_error_);
+  }
+  {
+    std::lock_guard<std::mutex> lk(pace_mutex_);
+    stat.add("woken refreshes", woken_refreshes_);                  // run at once for an arriving input
+    stat.add("wakes deferred to the rate limit", wakes_deferred_);  // inputs faster than ~rate
   }
   for (const auto& in : device_->inputs()) {
     const double age = in->age(now);

@@ -70,7 +70,8 @@ void BoardNodeletBase::tryOpen() {
   std::unique_ptr<Board> board = createBoard();
   std::string error;
   try {
-    BoardContext ctx{getNodeHandle(), getPrivateNodeHandle(), getName(), rate_};
+    BoardContext ctx{getNodeHandle(), getPrivateNodeHandle(), getName(), rate_,
+                     [member = member_name_] { LoopScheduler::instance().wake(member); }};
     board->init(ctx);
   } catch (const ParameterError& e) {
     if (open_attempts_ == 0) {

@@ -1,11 +1,18 @@
 #include "hcl_drivers/loop_scheduler.h"
 
+#include <robot_core/loop_pacer.h>
 #include <ros/ros.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 namespace hcl_drivers {
+
+// Commands of one board that arrive together (a drive's left and right wheel, published one
+// after the other) go out in one exchange: a woken member waits this long for its siblings.
+constexpr double kGatherCommands = 0.001;  // [s]
 
 // One polling thread servicing its members in turn, each when its own period is due.
 class LoopScheduler::Loop {
@@ -23,7 +30,20 @@ class LoopScheduler::Loop {
 
   void add(const std::string& member, double rate_hz, Work work) {
     std::lock_guard<std::mutex> lk(mutex_);
-    members_.push_back(std::make_shared<Member>(Member{member, ros::Duration(1.0 / rate_hz), ros::Time(), std::move(work)}));
+    members_.push_back(std::make_shared<Member>(Member{member, robot_core::LoopPacer(1.0 / rate_hz), std::move(work), 0.0}));
+    cv_.notify_all();
+  }
+
+  void wake(const std::string& member) {
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      for (auto& m : members_)
+        if (m->name == member && !m->pacer.woken()) {
+          m->pacer.wake();
+          m->woken_at = ros::Time::now().toSec();
+        }
+      ++wakes_;
+    }
     cv_.notify_all();
   }
 
@@ -48,9 +68,11 @@ class LoopScheduler::Loop {
  private:
   struct Member {
     std::string name;
-    ros::Duration period;
-    ros::Time next_due;
+    robot_core::LoopPacer pacer;  // its rate, and a wake by a command (robot_core/loop_pacer.h)
     Work work;
+    double woken_at = 0.0;        // [s, ROS time] of the first wake since its last service
+
+    double next() const { return pacer.woken() ? std::max(pacer.next(), woken_at + kGatherCommands) : pacer.next(); }
   };
 
   void run() {
@@ -61,33 +83,33 @@ class LoopScheduler::Loop {
         cv_.wait_for(lk, std::chrono::milliseconds(10));
         continue;
       }
-      ros::Time earliest;
+      double earliest = std::numeric_limits<double>::infinity();
       const auto snapshot = members_;  // members may leave while one is being serviced
       for (const auto& m : snapshot) {
         if (stop_) break;
         if (std::find(members_.begin(), members_.end(), m) == members_.end()) continue;  // left meanwhile
-        const ros::Time t = ros::Time::now();
-        if (m->next_due.isZero()) m->next_due = t;
-        if (t >= m->next_due) {
+        const double t = ros::Time::now().toSec();
+        if (t >= m->next()) {
+          // The pacer never bursts to catch up missed cycles: a late run just sets the next.
+          m->pacer.ran(t);
           running_ = m->name;
           lk.unlock();
           m->work();
           lk.lock();
           running_.clear();
           cv_.notify_all();
-          m->next_due += m->period;
-          // Fell behind by more than a period: skip the missed cycles rather than bursting.
-          if (m->next_due < t) m->next_due = t + m->period;
         }
-        if (earliest.isZero() || m->next_due < earliest) earliest = m->next_due;
+        earliest = std::min(earliest, m->next());
       }
-      if (stop_ || earliest.isZero()) continue;
-      const double wait = (earliest - ros::Time::now()).toSec();
+      if (stop_ || !std::isfinite(earliest)) continue;
+      // A member woken while another was serviced is due now: go round again at once.
+      const double wait = earliest - ros::Time::now().toSec();
       if (wait <= 0.0) continue;
       // Under simulated time, wall time and ROS time differ by the real-time factor: wake
       // often enough to notice the clock moving; in wall time sleep exactly.
       const double wall_wait = ros::Time::isSimTime() ? std::min(wait, 0.002) : wait;
-      cv_.wait_for(lk, std::chrono::duration<double>(wall_wait));
+      const unsigned long woken_before = wakes_;
+      cv_.wait_for(lk, std::chrono::duration<double>(wall_wait), [&] { return stop_ || wakes_ != woken_before; });
     }
   }
 
@@ -96,9 +118,22 @@ class LoopScheduler::Loop {
   std::condition_variable cv_;
   std::vector<std::shared_ptr<Member>> members_;
   std::string running_;
+  unsigned long wakes_ = 0;  // counts wake() calls: ends the loop's wait early
   bool stop_ = false;
   std::thread thread_;  // last: starts after everything above is constructed
 };
+
+void LoopScheduler::wake(const std::string& member) {
+  std::shared_ptr<Loop> loop;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    auto it = loop_of_member_.find(member);
+    if (it == loop_of_member_.end()) return;
+    auto l = loops_.find(it->second);
+    if (l != loops_.end()) loop = l->second;
+  }
+  if (loop) loop->wake(member);
+}
 
 LoopScheduler& LoopScheduler::instance() {
   static LoopScheduler scheduler;

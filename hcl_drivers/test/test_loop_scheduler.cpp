@@ -80,3 +80,33 @@ int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+TEST(LoopScheduler, AWokenMemberIsServicedWithoutWaitingForItsPeriod) {
+  // A 2 Hz board woken by a command: serviced within milliseconds, not at its next 500 ms tick;
+  // a flood of wakes does not raise its rate above the configured one (plus the pacer's burst).
+  LoopScheduler s;
+  std::atomic<int> n{0};
+  std::mutex m;
+  std::vector<std::chrono::steady_clock::time_point> runs;
+  s.join("", "slow_board", 2.0, [&] {
+    std::lock_guard<std::mutex> lk(m);
+    runs.push_back(std::chrono::steady_clock::now());
+    ++n;
+  });
+  sleepFor(0.2);  // its first run is at once; the next one would be 0.5 s later
+  const auto woken = std::chrono::steady_clock::now();
+  s.wake("slow_board");  // the pacer's spare token serves this one at once
+  sleepFor(0.05);
+  {
+    std::lock_guard<std::mutex> lk(m);
+    ASSERT_EQ(runs.size(), 2u);
+    const double delay = std::chrono::duration<double>(runs.back() - woken).count();
+    EXPECT_LT(delay, 0.03);  // 1 ms of command gathering plus scheduling; the tick was 300 ms away
+  }
+  for (int i = 0; i < 100; ++i) {  // 1 s of wakes every 10 ms
+    s.wake("slow_board");
+    sleepFor(0.01);
+  }
+  s.leave("slow_board");
+  EXPECT_LE(n.load(), 2 + 2 + 2);  // the two above, 2 Hz over 1 s, and the bucket's spare token
+}

@@ -4,7 +4,10 @@
 //   init(ctx)   once: read ~parameters (throw robot_core::ParameterError), declare inputs with
 //               addInput(), advertise outputs.
 //   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
-//               inputs, compute, publish. Call setUnavailable("why") when it cannot.
+//               inputs, compute, publish. Call setUnavailable("why") when it cannot. An input
+//               declared Wake::kOnArrival also runs it as soon as a message arrives, within
+//               the same rate ceiling (robot_core/loop_pacer.h): for readings that matter at
+//               once, such as a ranger or a velocity command.
 //   halt()      on shutdown.
 // The device's /diagnostics level comes from the framework (inputs, rate, availability); a device
 // raises it with setCondition(WARN or ERROR, "why") while something deserves a look although the
@@ -16,6 +19,7 @@
 #include <robot_core/parameters.h>
 #include <ros/ros.h>
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -35,6 +39,9 @@ struct DeviceContext {
   double rate = 0.0;    // configured refresh rate [Hz], validated
 };
 
+// Whether a new message on an input runs the device's refresh at once or waits for its tick.
+enum class Wake { kOnTick, kOnArrival };
+
 class Device {
  public:
   virtual ~Device() = default;
@@ -44,7 +51,9 @@ class Device {
   virtual void halt() {}
   virtual void diagnose(diagnostic_updater::DiagnosticStatusWrapper& /*stat*/) {}
 
-  // Framework side: inputs for diagnostics, and whether the device is usable.
+  // Framework side: how an arriving Wake::kOnArrival input runs refresh() (set before init()),
+  // inputs for diagnostics, and whether the device is usable.
+  void setWakeHandler(std::function<void(const ros::Time& stamp)> wake) { wake_ = std::move(wake); }
   const std::vector<std::shared_ptr<InputStatus>>& inputs() const { return inputs_; }
   bool available(std::string* reason) const {
     std::lock_guard<std::mutex> lk(status_mutex_);
@@ -61,8 +70,11 @@ class Device {
  protected:
   // Subscribe to an input topic in the pull model; `name` labels it on /diagnostics.
   template <class M>
-  std::shared_ptr<LatestValue<M>> addInput(ros::NodeHandle& nh, const std::string& topic, const std::string& name) {
-    auto input = std::make_shared<LatestValue<M>>(nh, topic, name);
+  std::shared_ptr<LatestValue<M>> addInput(ros::NodeHandle& nh, const std::string& topic, const std::string& name,
+                                           Wake wake = Wake::kOnTick) {
+    typename LatestValue<M>::OnArrival on_arrival;
+    if (wake == Wake::kOnArrival && wake_) on_arrival = wake_;
+    auto input = std::make_shared<LatestValue<M>>(nh, topic, name, on_arrival);
     inputs_.push_back(input);
     return input;
   }
@@ -85,6 +97,7 @@ class Device {
 
  private:
   std::vector<std::shared_ptr<InputStatus>> inputs_;
+  std::function<void(const ros::Time& stamp)> wake_;
   mutable std::mutex status_mutex_;
   std::string unavailable_reason_ = "not refreshed yet";
   uint8_t condition_level_ = diagnostic_msgs::DiagnosticStatus::OK;

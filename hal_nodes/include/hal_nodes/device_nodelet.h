@@ -1,4 +1,5 @@
-// The nodelet that hosts one Device: validates ~rate, runs refresh() on a timer, follows
+// The nodelet that hosts one Device: validates ~rate, runs refresh() at that rate (and when a
+// waking input arrives, paced by robot_core::LoopPacer so the rate stays a ceiling), follows
 // /effectors/deactivated for effectors, and reports on /diagnostics: rate achieved, the
 // sample age of every input, and why the device is unavailable.
 //
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <robot_core/loop_pacer.h>
 #include <robot_core/rate_meter.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -32,13 +34,26 @@ class DeviceNodeletBase : public nodelet::Nodelet {
  private:
   void onInit() final;
   void onTimer(const ros::TimerEvent& e);
+  void wake(const ros::Time& stamp);  // a Wake::kOnArrival input arrived, stamped `stamp`
+  void onGathered(const ros::WallTimerEvent& e);  // a woken refresh, after the gathering delay
+  void refreshIfDue();             // runs refresh() when the pacer allows it
   void onDeactivated(const std_msgs::Bool::ConstPtr& msg);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   std::unique_ptr<Device> device_;
   Effector* effector_ = nullptr;  // device_ when it is an effector
   std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::Timer refresh_timer_;
+  ros::Timer refresh_timer_;  // ticks at ~rate; a tick runs refresh() when the pacer says it is due
+  std::mutex pace_mutex_;
+  robot_core::LoopPacer pacer_{1.0};
+  ros::WallTimer gather_timer_;  // one-shot: a woken refresh, once the waking inputs pause (or a token is there)
+  bool wake_posted_ = false;     // gather_timer_ is running...
+  bool gathering_ = false;       // ...for a burst of inputs (false: for the pacer's next token)
+  ros::WallTime gather_started_;
+  unsigned long woken_refreshes_ = 0, wakes_deferred_ = 0;
+  ros::Time newest_woken_stamp_;  // of the newest input that woke a refresh
+  bool initialized_ = false;   // init() done: inputs may wake refresh()
+  bool shutting_down_ = false;
   ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
   ros::Subscriber deactivated_sub_;
   double rate_ = 0.0;

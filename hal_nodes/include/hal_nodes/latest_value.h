@@ -11,6 +11,7 @@
 #include <ros/message_traits.h>
 #include <ros/ros.h>
 
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -33,11 +34,13 @@ class LatestValueCache {
  public:
   using ConstPtr = typename M::ConstPtr;
 
-  void store(const ConstPtr& msg, const ros::Time& received_at) {
+  // Returns the stamp the message's age counts from.
+  ros::Time store(const ConstPtr& msg, const ros::Time& received_at) {
     std::lock_guard<std::mutex> lk(mutex_);
     msg_ = msg;
     stamp_ = stampOf(*msg, received_at);
     ++received_;
+    return stamp_;
   }
 
   ConstPtr newest() const {
@@ -80,10 +83,15 @@ class LatestValue : public InputStatus {
  public:
   using ConstPtr = typename M::ConstPtr;
 
-  LatestValue(ros::NodeHandle& nh, const std::string& topic, std::string name)
-      : name_(std::move(name)), topic_(nh.resolveName(topic)) {
-    sub_ = nh.subscribe<M>(topic, 1, [this](const ConstPtr& m) { cache_.store(m, ros::Time::now()); },
-                           ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  // `on_arrival` (optional) runs after each message is stored, with the message's stamp (its
+  // arrival time when it has none): it wakes the reading device.
+  using OnArrival = std::function<void(const ros::Time& stamp)>;
+  LatestValue(ros::NodeHandle& nh, const std::string& topic, std::string name, OnArrival on_arrival = nullptr)
+      : name_(std::move(name)), topic_(nh.resolveName(topic)), on_arrival_(std::move(on_arrival)) {
+    sub_ = nh.subscribe<M>(topic, 1, [this](const ConstPtr& m) {
+      const ros::Time stamp = cache_.store(m, ros::Time::now());
+      if (on_arrival_) on_arrival_(stamp);
+    }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
 
   ConstPtr newest() const { return cache_.newest(); }
@@ -98,6 +106,7 @@ class LatestValue : public InputStatus {
  private:
   std::string name_;
   std::string topic_;
+  OnArrival on_arrival_;
   LatestValueCache<M> cache_;
   ros::Subscriber sub_;
 };

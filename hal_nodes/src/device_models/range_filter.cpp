@@ -41,7 +41,8 @@ std::optional<double> RangeFilter::add(double range, double min_range, double ma
   window_.push_back(range);
   while (window_.size() > config_.window) window_.pop_front();
   double value = range;
-  if (!continues) {  // a jump: a peak unless the median of the window confirms it
+  const bool nearer = config_.nearer_at_once && std::isfinite(range) && output_ && range < *output_;
+  if (!continues && !nearer) {  // a jump: a peak unless the median of the window confirms it
     std::vector<double> sorted(window_.begin(), window_.end());
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     value = sorted[sorted.size() / 2];

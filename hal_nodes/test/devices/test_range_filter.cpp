@@ -56,6 +56,22 @@ TEST(RangeFilter, RealStepPassesWithinHalfTheWindowAndWithoutLag) {
   EXPECT_NEAR(*f.add(0.5, kMin, kMax), 0.5, 1e-12);  // 3 of 5: the obstacle is there, no smoothing lag
 }
 
+TEST(RangeFilter, ANearerJumpPassesAtOnceWhenAskedAFartherOneStillWaits) {
+  RangeFilterConfig c;
+  c.nearer_at_once = true;
+  RangeFilter f(c);
+  for (int i = 0; i < 5; ++i) f.add(2.0, kMin, kMax);
+  EXPECT_NEAR(*f.add(0.3, kMin, kMax), 0.3, 1e-12);  // something came close: at once
+  EXPECT_NEAR(*f.add(0.3, kMin, kMax), 0.3, 1e-12);
+  EXPECT_NEAR(*f.add(0.3, kMin, kMax), 0.3, 1e-12);
+  // Farther is still a peak until confirmed (a missed echo must not clear an obstacle).
+  EXPECT_NEAR(*f.add(2.0, kMin, kMax), 0.3, 1e-12);
+  // Without the option the same nearer jump is held back by the median.
+  RangeFilter g;
+  for (int i = 0; i < 5; ++i) g.add(2.0, kMin, kMax);
+  EXPECT_NEAR(*g.add(0.3, kMin, kMax), 2.0, 1e-12);
+}
+
 TEST(RangeFilter, NoiseIsReduced) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.02);

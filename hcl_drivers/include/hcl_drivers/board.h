@@ -15,6 +15,7 @@
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <ros/ros.h>
 
+#include <functional>
 #include <string>
 
 #include <robot_core/parameters.h>
@@ -30,6 +31,7 @@ struct BoardContext {
   ros::NodeHandle pnh;  // the board's private namespace: ~rate, ~state, ...
   std::string name;     // the board's node name, e.g. "/hcl/example_board"
   double rate = 0.0;    // configured polling rate [Hz], already validated
+  std::function<void()> wake;  // service the board as soon as its rate allows (subscribeCommand calls it)
 };
 
 class Board {
@@ -54,13 +56,19 @@ class Board {
   std::string last_error_;
 };
 
-// A command topic of a board (~motor/<name>/command, ...): the newest command only (queue 1), sent
-// without Nagle's delay. Commands are small and frequent; with Nagle a command waits for the
-// acknowledgement of the previous one, which the receiver may delay by up to 40 ms.
+// A command topic of a board (~motor/<name>/command, ...) in its private namespace: the newest
+// command only (queue 1), sent without Nagle's delay (with Nagle a command waits for the
+// acknowledgement of the previous one, which the receiver may delay by up to 40 ms). After the
+// callback the board's loop is woken, so the command goes out on the bus at once rather than at
+// the next period (within the board's rate: robot_core/loop_pacer.h).
 template <class M>
-ros::Subscriber subscribeCommand(ros::NodeHandle& nh, const std::string& topic,
+ros::Subscriber subscribeCommand(BoardContext& ctx, const std::string& topic,
                                  const boost::function<void(const typename M::ConstPtr&)>& callback) {
-  return nh.subscribe<M>(topic, 1, callback, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  const std::function<void()> wake = ctx.wake;
+  return ctx.pnh.subscribe<M>(topic, 1, [callback, wake](const typename M::ConstPtr& m) {
+    callback(m);
+    if (wake) wake();
+  }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
 }
 
 }  // namespace hcl_drivers

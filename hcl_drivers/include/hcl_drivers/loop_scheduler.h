@@ -1,7 +1,8 @@
 // Loop groups: boards naming the same ~loop are serviced in turn by one thread (the
 // original Scheduler), so boards on one I2C bus never contend. A board without a loop gets a
-// thread of its own. The loop runs at the highest rate of its members; each member is
-// serviced when its own period is due. Time is ROS time, so loops follow /clock in simulation.
+// thread of its own. Each member is serviced when its own period is due, or sooner when woken
+// by a command (paced so its rate stays a ceiling: robot_core/loop_pacer.h). Time is ROS time,
+// so loops follow /clock in simulation.
 #pragma once
 
 #include <condition_variable>
@@ -29,6 +30,8 @@ class LoopScheduler {
 
   // Service `work` at `rate_hz` on loop `loop` (empty: a private loop named after `member`).
   void join(const std::string& loop, const std::string& member, double rate_hz, Work work);
+  // Service `member` as soon as its rate allows (a command arrived): robot_core/loop_pacer.h.
+  void wake(const std::string& member);
   // Stop servicing `member`; returns once its work is not running and never will again.
   void leave(const std::string& member);
 

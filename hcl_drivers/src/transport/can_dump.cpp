@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       gettimeofday(&tv, nullptr);
       std::string text = hcl_drivers::transport::toString(f);
       std::printf("(%ld.%06ld) %s %s\n", static_cast<long>(tv.tv_sec), static_cast<long>(tv.tv_usec), argv[1], text.c_str());
+      std::fflush(stdout);  // a reader follows the bus live, not in 4 KB blocks
     }
     std::fflush(stdout);
   } catch (const std::exception& e) {

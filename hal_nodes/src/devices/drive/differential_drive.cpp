@@ -59,7 +59,7 @@ class DifferentialDrive : public Effector {
     }
     if (!has_left || !has_right)
       throw ParameterError("parameter " + qualified(ctx.pnh, "wheels") + " needs at least one wheel with side: left and one with side: right");
-    cmd_ = addInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel");
+    cmd_ = addInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel", Wake::kOnArrival);
     period_ = 1.0 / ctx.rate;
   }
 

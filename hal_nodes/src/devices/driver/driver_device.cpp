@@ -27,7 +27,8 @@ void Driver::init(DeviceContext& ctx) {
 }
 
 // Localization, odometry, the drive effector's status, path edits, and for avoidance the rangers
-// (placed with tf) and the tracked opponent.
+// (placed with tf) and the tracked opponent: these two wake the control loop, so an obstacle
+// stops the robot without waiting for the next control period.
 void Driver::subscribeInputs(DeviceContext& ctx) {
   pose_ = addInput<geometry_msgs::PoseWithCovarianceStamped>(ctx.nh, settings_.pose_topic, "pose");
   quality_ = addInput<LocalizationQuality>(ctx.nh, settings_.quality_topic, "quality");
@@ -36,9 +37,9 @@ void Driver::subscribeInputs(DeviceContext& ctx) {
   if (!settings_.motor_status.empty()) diag_sub_ = ctx.nh.subscribe("/diagnostics", 20, &Driver::onDiagnostics, this);
   if (avoidance_.config().mode == AvoidanceConfig::Mode::OFF) return;
   for (const auto& n : settings_.rangers)
-    rangers_.push_back(addInput<sensor_msgs::Range>(ctx.nh, settings_.ranger_prefix + n, "ranger " + n));
+    rangers_.push_back(addInput<sensor_msgs::Range>(ctx.nh, settings_.ranger_prefix + n, "ranger " + n, Wake::kOnArrival));
   if (!settings_.opponent_topic.empty())
-    opponent_ = addInput<geometry_msgs::PointStamped>(ctx.nh, settings_.opponent_topic, "opponent");
+    opponent_ = addInput<geometry_msgs::PointStamped>(ctx.nh, settings_.opponent_topic, "opponent", Wake::kOnArrival);
   if (!rangers_.empty()) {
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, ctx.nh);

@@ -6,12 +6,13 @@
 //
 // Parameters (besides ~rate):
 //   ~max_input_age  [s] (default 0.5)
-//   ~window, ~smoothing, ~step   filter defaults for all rangers (5, 0.5, 0.10 m)
+//   ~window, ~smoothing, ~step, ~nearer_at_once   filter defaults for all rangers (5, 0.5,
+//                   0.10 m, false; range_filter.h)
 //   ~rangers/<name>/
 //       topic       the board's Range topic (/hcl/<board>/range/<name>), required
 //       frame_id    output frame (default: the board message's frame_id)
 //       min_range, max_range  [m] override the board's limits (default: the message's)
-//       window, smoothing, step  per-ranger filter settings
+//       window, smoothing, step, nearer_at_once  per-ranger filter settings
 #include <sensor_msgs/Range.h>
 
 #include <cmath>
@@ -36,7 +37,7 @@ class RangersDevice : public Device {
       r.frame_id = optionalString(p, "frame_id", "");
       r.min_range = optionalDouble(p, "min_range", -1.0);
       r.max_range = optionalDouble(p, "max_range", -1.0);
-      r.input = addInput<sensor_msgs::Range>(ctx.nh, requireString(p, "topic"), name);
+      r.input = addInput<sensor_msgs::Range>(ctx.nh, requireString(p, "topic"), name, Wake::kOnArrival);
       r.pub = ctx.pnh.advertise<sensor_msgs::Range>(name, 5);
       rangers_.push_back(std::move(r));
     }
@@ -96,6 +97,7 @@ class RangersDevice : public Device {
     requireInRange(p, "smoothing", c.smoothing, 1e-3, 1.0);
     c.step = optionalDouble(p, "step", d.step);
     requirePositive(p, "step", c.step);
+    c.nearer_at_once = optionalBool(p, "nearer_at_once", d.nearer_at_once);
     return c;
   }
 

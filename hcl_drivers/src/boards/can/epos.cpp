@@ -62,7 +62,7 @@ class Epos : public CanopenBoard {
     });
     state_pub_ = ctx.pnh.advertise<EposState>("state", 1, true);
     encoder_pub_ = ctx.pnh.advertise<EncoderCounter>("encoder/" + encoder_, 1, true);
-    command_sub_ = subscribeCommand<MotorCommand>(ctx.pnh, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) {
+    command_sub_ = subscribeCommand<MotorCommand>(ctx, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) {
       if (!acceptCommand("velocity")) return;
       std::lock_guard<std::mutex> lk(mutex_);
       command_rpm_ = std::max(-max_rpm_, std::min(max_rpm_, m->value));

@@ -43,7 +43,7 @@ class HmiBoard : public CanopenBoard {
     });
     state_pub_ = ctx.pnh.advertise<HmiBoardState>("state", 1, true);
     inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
-    lcd_sub_ = subscribeCommand<std_msgs::String>(ctx.pnh, "lcd", [this](const std_msgs::String::ConstPtr& m) {
+    lcd_sub_ = subscribeCommand<std_msgs::String>(ctx, "lcd", [this](const std_msgs::String::ConstPtr& m) {
       if (!acceptCommand("LCD")) return;
       std::lock_guard<std::mutex> lk(mutex_);
       std::size_t start = 0;

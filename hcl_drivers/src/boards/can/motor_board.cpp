@@ -61,7 +61,7 @@ class MotorBoard : public CanopenBoard {
     for (std::size_t i = 0; i < encoders_.size(); ++i)
       encoder_pubs_.push_back(ctx.pnh.advertise<EncoderCounter>("encoder/" + encoders_[i], 1, true));
     for (std::size_t i = 0; i < motors_.size(); ++i)
-      subs_.push_back(subscribeCommand<MotorCommand>(ctx.pnh, "motor/" + motors_[i] + "/command",
+      subs_.push_back(subscribeCommand<MotorCommand>(ctx, "motor/" + motors_[i] + "/command",
                                                       [this, i](const MotorCommand::ConstPtr& m) { onCommand(i, *m); }));
   }
 

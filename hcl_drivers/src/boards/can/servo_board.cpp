@@ -61,7 +61,7 @@ class ServoBoard : public CanopenBoard {
     inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
     for (const auto& r : rangers_) range_pubs_.push_back(ctx.pnh.advertise<sensor_msgs::Range>("range/" + r, 1, true));
     for (std::size_t i = 0; i < servos_.size(); ++i)
-      subs_.push_back(subscribeCommand<std_msgs::UInt16>(ctx.pnh, "servo/" + servos_[i] + "/pulse_us",
+      subs_.push_back(subscribeCommand<std_msgs::UInt16>(ctx, "servo/" + servos_[i] + "/pulse_us",
                                                           [this, i](const std_msgs::UInt16::ConstPtr& m) {
                                                             if (!acceptCommand("servo")) return;
                                                             std::lock_guard<std::mutex> lk(mutex_);

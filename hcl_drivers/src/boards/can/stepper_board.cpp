@@ -58,7 +58,7 @@ class StepperBoard : public CanopenBoard {
     state_pub_ = ctx.pnh.advertise<StepperBoardState>("state", 1, true);
     inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
     for (std::size_t i = 0; i < steppers_.size(); ++i)
-      subs_.push_back(subscribeCommand<std_msgs::Int32>(ctx.pnh, "stepper/" + steppers_[i] + "/target",
+      subs_.push_back(subscribeCommand<std_msgs::Int32>(ctx, "stepper/" + steppers_[i] + "/target",
                                                          [this, i](const std_msgs::Int32::ConstPtr& m) {
                                                            if (!acceptCommand("stepper target")) return;
                                                            std::lock_guard<std::mutex> lk(mutex_);

@@ -38,7 +38,7 @@ class ExampleBoard : public Board {
 
     socket_ = std::make_unique<transport::UdpSocket>(ep.host, ep.port);
     state_pub_ = ctx.pnh.advertise<ExampleBoardState>("state", 1, true);
-    lamp_sub_ = subscribeCommand<std_msgs::UInt8>(ctx.pnh, "lamp_pwm", [this](const std_msgs::UInt8::ConstPtr& m) { onLamp(m); });
+    lamp_sub_ = subscribeCommand<std_msgs::UInt8>(ctx, "lamp_pwm", [this](const std_msgs::UInt8::ConstPtr& m) { onLamp(m); });
   }
 
   bool service() override {

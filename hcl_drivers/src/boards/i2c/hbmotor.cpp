@@ -36,7 +36,7 @@ class HBMotor : public Board {
     watchdog_ = hbmotor::encodeWatchdog(wd);
     state_pub_ = ctx.pnh.advertise<HBMotorState>("state", 1, true);
     encoder_pub_ = ctx.pnh.advertise<EncoderCounter>("encoder/" + encoder_, 1, true);
-    command_sub_ = subscribeCommand<MotorCommand>(ctx.pnh, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) { onCommand(m); });
+    command_sub_ = subscribeCommand<MotorCommand>(ctx, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) { onCommand(m); });
   }
 
   bool service() override {

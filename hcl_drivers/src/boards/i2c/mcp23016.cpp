@@ -44,7 +44,7 @@ class MCP23016 : public Board {
       throw ParameterError("parameter " + qualified(ctx.pnh, "input_names") + ": at most 16 names (one per pin)");
     inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
     state_pub_ = ctx.pnh.advertise<MCP23016State>("state", 1, true);
-    outputs_sub_ = subscribeCommand<std_msgs::UInt16>(ctx.pnh, "outputs", [this](const std_msgs::UInt16::ConstPtr& m) { onOutputs(m); });
+    outputs_sub_ = subscribeCommand<std_msgs::UInt16>(ctx, "outputs", [this](const std_msgs::UInt16::ConstPtr& m) { onOutputs(m); });
   }
 
   bool service() override {

@@ -1,0 +1,47 @@
+// When a periodic loop that an input may wake runs next (the HAL's device loops, the HCL's
+// board loops). The pull model's loops poll at their configured rate; an input that matters at
+// once (a ranger reading, a motor command) wakes its loop instead of waiting up to a period for
+// the next tick. The configured rate stays a ceiling:
+//   * runs are paced by a token bucket at the configured rate holding at most two tokens: over
+//     any window of T seconds the loop runs at most T * rate + 2 times, so a flood of inputs
+//     cannot raise its rate. One spare token lets an input that comes between two ticks be
+//     served at once, and the loop's phase then follows its inputs;
+//   * without inputs the loop runs once per period, drift-free, like a plain timer;
+//   * after a woken run the next unwoken one waits half a period longer: an input that comes a
+//     little late then still finds the loop ready instead of a tick that has just taken its place.
+// Time is passed in (seconds of ROS time), so it is testable and follows the simulated clock.
+#pragma once
+
+namespace robot_core {
+
+class LoopPacer {
+ public:
+  static constexpr double kBurst = 2.0;  // tokens the bucket holds
+
+  explicit LoopPacer(double period_s, double patience = 0.5) : period_(period_s), patience_(patience) {}
+
+  // An input arrived: the loop runs at next(), at once when it has a token.
+  void wake() { woken_ = true; }
+  bool woken() const { return woken_; }
+
+  // When the loop runs next; -infinity before its first run (run at once).
+  double next() const;
+  bool due(double now) const { return now >= next(); }
+
+  // The loop ran at `now`.
+  void ran(double now);
+
+  double period() const { return period_; }
+
+ private:
+  double period_;
+  double patience_;
+  bool started_ = false;
+  bool woken_ = false;
+  bool last_woken_ = false;
+  double last_ = 0.0;    // when the last run counts as having happened (its schedule, if on time)
+  double tokens_ = 0.0;  // tokens left just after the last run
+  double tokensAt(double t) const;
+};
+
+}  // namespace robot_core

@@ -1,0 +1,37 @@
+#include "robot_core/loop_pacer.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace robot_core {
+
+double LoopPacer::tokensAt(double t) const {
+  return std::min(kBurst, tokens_ + (t - last_) / period_);
+}
+
+double LoopPacer::next() const {
+  if (!started_) return -std::numeric_limits<double>::infinity();
+  if (woken_) return last_ + std::max(0.0, 1.0 - tokens_) * period_;  // as soon as a token is there
+  return last_ + period_ * (last_woken_ ? 1.0 + patience_ : 1.0);
+}
+
+void LoopPacer::ran(double now) {
+  if (!started_) {
+    started_ = true;
+    last_ = now;
+    tokens_ = kBurst - 1.0;
+    woken_ = false;
+    return;
+  }
+  const double scheduled = next();
+  // An unwoken run that is on time counts at its scheduled time, so a plain periodic loop keeps
+  // its rate exactly however late each run starts; a woken run sets a new phase.
+  const bool on_schedule = !woken_ && now >= scheduled && now - scheduled < period_;
+  const double at = on_schedule ? scheduled : now;
+  tokens_ = std::max(-1.0, tokensAt(at) - 1.0);
+  last_ = at;
+  last_woken_ = woken_;
+  woken_ = false;
+}
+
+}  // namespace robot_core

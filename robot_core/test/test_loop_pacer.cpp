@@ -1,0 +1,117 @@
+// The loop pacer: a woken loop runs at once, the configured rate stays a ceiling under a flood
+// of inputs, and without inputs the loop keeps its period exactly.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "robot_core/loop_pacer.h"
+
+using robot_core::LoopPacer;
+
+namespace {
+
+// Runs a loop from 0 to `end` s: it runs whenever due (checked every `step` s) and is woken at
+// each time in `inputs`. Returns the run times.
+std::vector<double> simulate(LoopPacer& p, const std::vector<double>& inputs, double end, double step = 1e-4) {
+  std::vector<double> runs;
+  size_t next_input = 0;
+  for (long i = 0; i * step <= end; ++i) {
+    const double now = i * step;
+    while (next_input < inputs.size() && inputs[next_input] <= now + 1e-12) {
+      p.wake();
+      ++next_input;
+    }
+    if (p.due(now)) {
+      p.ran(now);
+      runs.push_back(now);
+    }
+  }
+  return runs;
+}
+
+}  // namespace
+
+TEST(LoopPacer, FirstRunIsAtOnceThenOncePerPeriod) {
+  LoopPacer p(0.02);
+  EXPECT_TRUE(p.due(0.0));
+  p.ran(0.0);
+  EXPECT_FALSE(p.due(0.019));
+  EXPECT_NEAR(p.next(), 0.02, 1e-12);
+}
+
+TEST(LoopPacer, WithoutInputsItKeepsItsRateWhateverEachRunsLateness) {
+  LoopPacer p(0.02);
+  p.ran(0.0);
+  // Each run starts 3 ms late: the schedule does not drift.
+  for (int k = 1; k <= 100; ++k) {
+    EXPECT_NEAR(p.next(), 0.02 * k, 1e-9);
+    p.ran(0.02 * k + 0.003);
+  }
+}
+
+TEST(LoopPacer, AWokenLoopRunsAtOnceOnItsSpareTokenThenWaitsForTheNext) {
+  LoopPacer p(0.02);
+  p.ran(0.0);
+  p.ran(0.02);
+  p.wake();  // 7 ms after a tick: the spare token serves it at once
+  EXPECT_TRUE(p.due(0.027));
+  p.ran(0.027);
+  // 5 ms later the bucket holds 0.35 + 0.25 tokens: the next wake waits for a whole one.
+  p.wake();
+  EXPECT_FALSE(p.due(0.032));
+  EXPECT_NEAR(p.next(), 0.027 + 0.65 * 0.02, 1e-12);
+}
+
+TEST(LoopPacer, InputsAtTheLoopRateAreServedWithinTheirJitter) {
+  // A sensor at the loop's own rate, phase 7 ms after the loop's, with +-1 ms of jitter: after
+  // the first input the loop runs on the inputs, not on its old ticks.
+  LoopPacer p(0.02);
+  std::vector<double> inputs;
+  for (int k = 0; k < 200; ++k) inputs.push_back(0.007 + 0.02 * k + ((k * 7919) % 21 - 10) * 1e-4);
+  const auto runs = simulate(p, inputs, 4.0);
+  double worst = 0.0;
+  for (size_t k = 1; k < inputs.size(); ++k) {
+    const auto it = std::lower_bound(runs.begin(), runs.end(), inputs[k] - 1e-9);
+    ASSERT_NE(it, runs.end());
+    worst = std::max(worst, *it - inputs[k]);
+  }
+  EXPECT_LT(worst, 0.0002);  // served at once (one step); a plain 50 Hz tick: up to 20 ms
+}
+
+TEST(LoopPacer, InputsSlowerThanTheLoopAreServedAtOnce) {
+  LoopPacer p(0.02);  // a 50 Hz loop, a 20 Hz sensor
+  std::vector<double> inputs;
+  for (int k = 0; k < 80; ++k) inputs.push_back(0.013 + 0.05 * k);
+  const auto runs = simulate(p, inputs, 4.0);
+  for (double t : inputs) {
+    const auto it = std::lower_bound(runs.begin(), runs.end(), t - 1e-9);
+    ASSERT_NE(it, runs.end());
+    EXPECT_LT(*it - t, 0.0002);
+  }
+}
+
+TEST(LoopPacer, AFloodOfInputsDoesNotRaiseTheRate) {
+  LoopPacer p(0.02);
+  std::vector<double> inputs;
+  for (int k = 0; k < 10000; ++k) inputs.push_back(k * 0.0003);  // 3.3 kHz
+  const auto runs = simulate(p, inputs, 3.0);
+  EXPECT_LE(runs.size(), 3.0 / 0.02 + 2);
+  EXPECT_GE(runs.size(), 3.0 / 0.02 - 2);
+  // No window of one second holds more than rate + 2 runs.
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const auto end = std::upper_bound(runs.begin(), runs.end(), runs[i] + 1.0 - 1e-9);
+    EXPECT_LE(end - (runs.begin() + i), 52);
+  }
+}
+
+TEST(LoopPacer, AfterAWokenRunTheNextTickWaitsHalfAPeriodForALateInput) {
+  LoopPacer p(0.02);
+  p.ran(0.0);
+  p.wake();
+  p.ran(0.02);
+  EXPECT_NEAR(p.next(), 0.05, 1e-12);  // 1.5 periods: the next input, late by up to 10 ms, wins
+  p.ran(0.05);                          // none came: an unwoken run...
+  EXPECT_NEAR(p.next(), 0.07, 1e-12);   // ...and the plain period again
+}

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Latency bench: one ranger reading followed through every hop of the whole simulated 2009
+# robot, from the CAN frame that carries it to the CAN frame that stops the motors, for the
+# brain's opponent_ahead trigger (reflex) and the driver's own avoidance (a second run, the
+# brain's trigger out of reach); and the age of /mcl/pose when it arrives.
+# scripts/bench/latency.launch at real time, measured by scripts/bench/latency_bench.py on a
+# private ROS master. About 3 minutes.
+# Usage: scripts/bench/latency.sh [EVENTS per path, default 20]. Run from the repo root with the
+# workspace sourced. Ends with: reflex_p50_ms A reflex_p99_ms B avoid_p99_ms C pose_age_p99_ms D
+set -uo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+port=11498   # private master for this bench
+export ROS_MASTER_URI=http://127.0.0.1:$port
+export PYTHONPATH=$root/test/scripts:${PYTHONPATH:-}
+log=$(mktemp -d /tmp/bench_latency.XXXX)
+export ROS_LOG_DIR=$log
+launch=
+cleanup() { [ -n "$launch" ] && kill -INT "$launch" 2>/dev/null; wait 2>/dev/null; rm -rf "$log"; }
+trap cleanup EXIT
+status=0
+run() {  # run MODE BRAIN_TRIGGER
+  roslaunch -p $port "$root/scripts/bench/latency.launch" brain_trigger:=$2 >"$log/launch_$1.log" 2>&1 &
+  launch=$!
+  for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
+  if ! python3 "$root/scripts/bench/latency_bench.py" "$1" "${EVENTS}" | tee "$log/$1.out"; then
+    echo "latency bench ($1) FAILED; launch log tail:"
+    tail -20 "$log/launch_$1.log"
+    status=1
+  fi
+  kill -INT "$launch" 2>/dev/null; wait "$launch" 2>/dev/null
+  launch=
+}
+EVENTS=${1:-20}
+run reflex true
+run avoid false
+figure() { awk -v k="$1" '$1 == "figures" { for (i = 2; i < NF; i += 2) if ($i == k) v = $(i + 1) } END { print (v == "" ? "nan" : v) }' "$log"/*.out; }
+echo "reflex_p50_ms $(figure reflex_p50_ms) reflex_p99_ms $(figure reflex_p99_ms) avoid_p99_ms $(figure avoid_p99_ms) pose_age_p99_ms $(figure pose_age_p99_ms)"
+exit $status
