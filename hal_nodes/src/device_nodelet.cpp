@@ -131,16 +131,16 @@ void DeviceNodeletBase::onGathered(const ros::WallTimerEvent&) {
     wake_posted_ = false;
     ++woken_refreshes_;
   }
-  refreshIfDue();
+  refreshIfDue(false);
 }
 
-void DeviceNodeletBase::onTimer(const ros::TimerEvent&) { refreshIfDue(); }
+void DeviceNodeletBase::onTimer(const ros::TimerEvent&) { refreshIfDue(true); }
 
-void DeviceNodeletBase::refreshIfDue() {
+void DeviceNodeletBase::refreshIfDue(bool tick) {
   const double now = ros::Time::now().toSec();  // the rate meter, like the pacer, counts ROS time
   {
     std::lock_guard<std::mutex> lk(pace_mutex_);
-    if (!pacer_.due(now)) return;
+    if (!(tick ? pacer_.dueForTick(now) : pacer_.due(now))) return;
     pacer_.ran(now);
   }
   const auto wall_start = std::chrono::steady_clock::now();

@@ -12,7 +12,7 @@ double LoopPacer::tokensAt(double t) const {
 double LoopPacer::next() const {
   if (!started_) return -std::numeric_limits<double>::infinity();
   if (woken_) return last_ + std::max(0.0, 1.0 - tokens_) * period_;  // as soon as a token is there
-  return last_ + period_ * (last_woken_ ? 1.0 + patience_ : 1.0);
+  return last_ + period_ * (patient_ ? 1.0 + patience_ : 1.0);
 }
 
 void LoopPacer::ran(double now) {
@@ -24,10 +24,13 @@ void LoopPacer::ran(double now) {
     return;
   }
   const double scheduled = next();
-  // An unwoken run that is on time counts at its scheduled time, so a plain periodic loop keeps
-  // its rate exactly however late each run starts; a woken run sets a new phase.
-  const bool on_schedule = !woken_ && now >= scheduled && now - scheduled < period_;
-  const double at = on_schedule ? scheduled : now;
+  // An unwoken run that is on time (a tick up to half a period early, or less than a period
+  // late) counts at its scheduled time, so a plain periodic loop keeps its rate exactly however
+  // its runs jitter; a woken run sets a new phase.
+  const bool on_schedule = !woken_ && now >= scheduled - 0.5 * period_ && now - scheduled < period_;
+  // A tick the patience postponed still counts in its own slot: the schedule does not move.
+  const double at = on_schedule ? (patient_ ? last_ + period_ : scheduled) : now;
+  patient_ = woken_ && at - last_ < 1.2 * period_;
   tokens_ = std::max(-1.0, tokensAt(at) - 1.0);
   last_ = at;
   last_woken_ = woken_;

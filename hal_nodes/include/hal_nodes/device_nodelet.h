@@ -36,7 +36,7 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   void onTimer(const ros::TimerEvent& e);
   void wake(const ros::Time& stamp);  // a Wake::kOnArrival input arrived, stamped `stamp`
   void onGathered(const ros::WallTimerEvent& e);  // a woken refresh, after the gathering delay
-  void refreshIfDue();             // runs refresh() when the pacer allows it
+  void refreshIfDue(bool tick);     // runs refresh() when the pacer allows it (tick: for the periodic timer)
   void onDeactivated(const std_msgs::Bool::ConstPtr& msg);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 

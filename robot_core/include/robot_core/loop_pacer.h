@@ -7,8 +7,10 @@
 //     cannot raise its rate. One spare token lets an input that comes between two ticks be
 //     served at once, and the loop's phase then follows its inputs;
 //   * without inputs the loop runs once per period, drift-free, like a plain timer;
-//   * after a woken run the next unwoken one waits half a period longer: an input that comes a
-//     little late then still finds the loop ready instead of a tick that has just taken its place.
+//   * after a woken run that came within 1.2 periods of the run before it (inputs at the loop's
+//     own rate), the next tick waits half a period longer: an input that comes a little late
+//     then still finds the loop ready instead of a tick that has just taken its place. The
+//     schedule itself does not move, so slower inputs never pull the loop below its rate.
 // Time is passed in (seconds of ROS time), so it is testable and follows the simulated clock.
 #pragma once
 
@@ -27,6 +29,13 @@ class LoopPacer {
   // When the loop runs next; -infinity before its first run (run at once).
   double next() const;
   bool due(double now) const { return now >= next(); }
+  // For a periodic timer's tick: the timer and the pacer keep the same period but their
+  // callback latencies differ, so a tick up to half a period before next() is on time (else
+  // one tick in two would be skipped whenever a tick came a little early).
+  // (The patience after a woken run is kept whole.)
+  bool dueForTick(double now) const {
+    return woken_ || patient_ ? due(now) : now >= next() - 0.5 * period_;
+  }
 
   // The loop ran at `now`.
   void ran(double now);
@@ -39,6 +48,7 @@ class LoopPacer {
   bool started_ = false;
   bool woken_ = false;
   bool last_woken_ = false;
+  bool patient_ = false;  // the last run was woken within 1.2 periods of the one before
   double last_ = 0.0;    // when the last run counts as having happened (its schedule, if on time)
   double tokens_ = 0.0;  // tokens left just after the last run
   double tokensAt(double t) const;
