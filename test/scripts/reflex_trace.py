@@ -1,6 +1,6 @@
 """Follows a ranger reading through every hop of the simulated 2009 robot, from the CAN frame
-that carries it to the CAN frame that stops the motors: shared by scripts/bench/latency_bench.py
-(the figures) and the reflex_latency rostest (the bound).
+that carries it to the CAN frame that stops the motors, for scripts/bench/latency_bench.py (here
+beside the test support, for the rostest that will bound the reflex once its runs agree).
 
 Reflex (the brain's opponent_ahead trigger): drive the robot forward on /hal/drive/cmd_vel, put
 the opponent in front of it inside the trigger's distance and stop driving; the hops are
