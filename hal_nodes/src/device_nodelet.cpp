@@ -8,8 +8,8 @@
 namespace hal_nodes {
 
 namespace {
-constexpr double kGatherQuiet = 0.001;  // [s, wall]
-constexpr double kGatherLimit = 0.004;  // [s, wall]
+constexpr double kGatherQuiet = 0.001;  // [s, ROS time, like the pacer and the HCL's command gathering]
+constexpr double kGatherLimit = 0.004;  // [s, ROS time]
 }  // namespace
 
 using diagnostic_msgs::DiagnosticStatus;
@@ -69,7 +69,7 @@ void DeviceNodeletBase::onInit() {
     // The readings of one board exchange arrive on separate topics, a fraction of a millisecond
     // apart: a woken refresh waits for kGatherQuiet without a new one (at most kGatherLimit
     // after the first), so it takes them all in one run and one token of the pacer.
-    gather_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(kGatherQuiet), &DeviceNodeletBase::onGathered, this,
+    gather_timer_ = getNodeHandle().createTimer(ros::Duration(kGatherQuiet), &DeviceNodeletBase::onGathered, this,
                                                     true /* one-shot */, false /* started by wake() */);
     initialized_ = true;  // from now on an arriving input may run refresh()
     NODELET_INFO("device %s refreshing at %.1f Hz%s", getName().c_str(), rate_, effector_ ? " (effector)" : "");
@@ -87,7 +87,7 @@ void DeviceNodeletBase::wake(const ros::Time& stamp) {
   {
     std::lock_guard<std::mutex> lk(pace_mutex_);
     if (!initialized_ || shutting_down_) return;
-    const ros::WallTime now = ros::WallTime::now();
+    const ros::Time now = ros::Time::now();
     if (wake_posted_) {
       // Still gathering: the refresh waits for a quiet moment after the burst, up to its limit.
       // (A wake deferred to the rate limit already waits for its token.)
@@ -98,22 +98,28 @@ void DeviceNodeletBase::wake(const ros::Time& stamp) {
       if (stamp <= newest_woken_stamp_) return;
       newest_woken_stamp_ = stamp;
       pacer_.wake();
-      const double wait = pacer_.next() - ros::Time::now().toSec();  // > 0: no token yet
+      const double wait = pacer_.next() - now.toSec();  // > 0: no token yet
       wake_posted_ = true;
       gather_started_ = now;
       gathering_ = wait <= 0.0;
       if (!gathering_) {
         ++wakes_deferred_;
-        delay = std::max(kGatherQuiet, wait);  // ROS time as wall time: under a faster clock the tick comes first
+        delay = std::max(kGatherQuiet, wait);
       }
     }
   }
+  restartGatherTimer(delay);
+}
+
+// A new one-shot each time: re-arming a one-shot from inside its own callback is undone when
+// the callback returns.
+void DeviceNodeletBase::restartGatherTimer(double delay) {
   gather_timer_.stop();
-  gather_timer_.setPeriod(ros::WallDuration(delay));
+  gather_timer_.setPeriod(ros::Duration(delay));
   gather_timer_.start();
 }
 
-void DeviceNodeletBase::onGathered(const ros::WallTimerEvent&) {
+void DeviceNodeletBase::onGathered(const ros::TimerEvent&) {
   {
     std::lock_guard<std::mutex> lk(pace_mutex_);
     if (!pacer_.woken()) {  // a tick has refreshed meanwhile
@@ -121,11 +127,9 @@ void DeviceNodeletBase::onGathered(const ros::WallTimerEvent&) {
       return;
     }
     const double wait = pacer_.next() - ros::Time::now().toSec();
-    if (wait > 0.0) {  // the token is not there yet (the clock runs slower than the wall): wait on
+    if (wait > 0.0) {  // the token is not there yet: wait on for it
       gathering_ = false;
-      gather_timer_.stop();  // a new one-shot: re-arming a firing one-shot is undone when its callback returns
-      gather_timer_.setPeriod(ros::WallDuration(std::max(kGatherQuiet, wait)));
-      gather_timer_.start();
+      restartGatherTimer(std::max(kGatherQuiet, wait));
       return;
     }
     wake_posted_ = false;

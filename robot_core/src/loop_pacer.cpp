@@ -33,7 +33,6 @@ void LoopPacer::ran(double now) {
   patient_ = woken_ && at - last_ < 1.2 * period_;
   tokens_ = std::max(-1.0, tokensAt(at) - 1.0);
   last_ = at;
-  last_woken_ = woken_;
   woken_ = false;
 }
 

@@ -35,7 +35,8 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   void onInit() final;
   void onTimer(const ros::TimerEvent& e);
   void wake(const ros::Time& stamp);  // a Wake::kOnArrival input arrived, stamped `stamp`
-  void onGathered(const ros::WallTimerEvent& e);  // a woken refresh, after the gathering delay
+  void onGathered(const ros::TimerEvent& e);  // a woken refresh, after the gathering delay
+  void restartGatherTimer(double delay);
   void refreshIfDue(bool tick);     // runs refresh() when the pacer allows it (tick: for the periodic timer)
   void onDeactivated(const std_msgs::Bool::ConstPtr& msg);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -46,10 +47,10 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   ros::Timer refresh_timer_;  // ticks at ~rate; a tick runs refresh() when the pacer says it is due
   std::mutex pace_mutex_;
   robot_core::LoopPacer pacer_{1.0};
-  ros::WallTimer gather_timer_;  // one-shot: a woken refresh, once the waking inputs pause (or a token is there)
+  ros::Timer gather_timer_;  // one-shot: a woken refresh, once the waking inputs pause (or a token is there)
   bool wake_posted_ = false;     // gather_timer_ is running...
   bool gathering_ = false;       // ...for a burst of inputs (false: for the pacer's next token)
-  ros::WallTime gather_started_;
+  ros::Time gather_started_;
   unsigned long woken_refreshes_ = 0, wakes_deferred_ = 0;
   ros::Time newest_woken_stamp_;  // of the newest input that woke a refresh
   bool initialized_ = false;   // init() done: inputs may wake refresh()

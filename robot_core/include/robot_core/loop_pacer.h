@@ -47,7 +47,6 @@ class LoopPacer {
   double patience_;
   bool started_ = false;
   bool woken_ = false;
-  bool last_woken_ = false;
   bool patient_ = false;  // the last run was woken within 1.2 periods of the one before
   double last_ = 0.0;    // when the last run counts as having happened (its schedule, if on time)
   double tokens_ = 0.0;  // tokens left just after the last run
