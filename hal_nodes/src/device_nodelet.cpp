@@ -43,6 +43,10 @@ void DeviceNodeletBase::onInit() {
     ctx.rate = requireDouble(pnh, "rate");
     requirePositive(pnh, "rate", ctx.rate);
     rate_ = ctx.rate;
+    // The ceiling of the runs that inputs wake (robot_core/loop_pacer.h): above the rate of the
+    // streams that wake the device, or each of their readings ends up waiting for its token.
+    max_rate_ = optionalDouble(pnh, "max_rate", rate_);
+    robot_core::requireInRange(pnh, "max_rate", max_rate_, rate_, 10.0 * rate_);
     const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 0.25);
     requirePositive(pnh, "diagnostic_period", diagnostic_period);
     pnh.setParam("diagnostic_period", diagnostic_period);
@@ -51,7 +55,7 @@ void DeviceNodeletBase::onInit() {
     required_ = robot_core::optionalBool(pnh, "required", true);
     started_ = ros::Time::now();
 
-    pacer_ = robot_core::LoopPacer(1.0 / rate_);
+    pacer_ = robot_core::LoopPacer(1.0 / rate_, 1.0 / max_rate_);
     device_ = createDevice();
     device_->setWakeHandler([this](const ros::Time& stamp) { wake(stamp); });
     device_->init(ctx);
@@ -72,7 +76,8 @@ void DeviceNodeletBase::onInit() {
     gather_timer_ = getNodeHandle().createTimer(ros::Duration(kGatherQuiet), &DeviceNodeletBase::onGathered, this,
                                                     true /* one-shot */, false /* started by wake() */);
     initialized_ = true;  // from now on an arriving input may run refresh()
-    NODELET_INFO("device %s refreshing at %.1f Hz%s", getName().c_str(), rate_, effector_ ? " (effector)" : "");
+    NODELET_INFO("device %s refreshing at %.1f Hz (woken up to %.1f Hz)%s", getName().c_str(), rate_, max_rate_,
+                 effector_ ? " (effector)" : "");
   } catch (const robot_core::ParameterError& e) {
     NODELET_FATAL("%s", e.what());
     throw;
@@ -198,6 +203,7 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     if (condition_level != DiagnosticStatus::OK) stat.mergeSummary(condition_level, condition);
     stat.add("required", required_ ? "true" : "false");  // readiness waits only for required devices
     stat.addf("configured rate [Hz]", "%.2f", rate_);
+    stat.addf("max rate [Hz]", "%.2f", max_rate_);
     stat.addf("achieved rate [Hz]", "%.2f", achieved);
     stat.addf("mean refresh time [ms]", "%.3f", 1e3 * meter_.meanBusy());
     stat.add("refresh errors", refresh_errors_);
@@ -206,7 +212,7 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   {
     std::lock_guard<std::mutex> lk(pace_mutex_);
     stat.add("woken refreshes", woken_refreshes_);                  // run at once for an arriving input
-    stat.add("wakes deferred to the rate limit", wakes_deferred_);  // inputs faster than ~rate
+    stat.add("wakes deferred to the rate limit", wakes_deferred_);  // inputs faster than ~max_rate
   }
   for (const auto& in : device_->inputs()) {
     const double age = in->age(now);

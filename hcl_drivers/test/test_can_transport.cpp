@@ -4,8 +4,10 @@
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <thread>
 
 #include "hcl_drivers/transport/can_bus.h"
@@ -110,6 +112,28 @@ TEST(UdpCanBus, BroadcastsToEveryParticipantButTheSender) {
   EXPECT_EQ(got, g);
   ASSERT_TRUE(ch_hub->receive(got, 1.0));
   EXPECT_FALSE(ch_b->receive(got, 0.1));
+}
+
+TEST(UdpCanBus, AReceivedFrameCarriesTheKernelsReceiveTime) {
+  // The time it reached the socket, not when its reader got to it: a reader that reads 200 ms
+  // late still sees when the frame came.
+  auto hub = participant(27052);
+  auto a = participant(27052);
+  auto rx = hub->open({});
+  auto tx = a->open({});
+  settle();
+  const CanFrame f = CanFrame::make(0x18C, {7});
+  EXPECT_EQ(f.received, 0.0);  // made here
+  timeval before{};
+  gettimeofday(&before, nullptr);
+  ASSERT_TRUE(tx->send(f));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  CanFrame got;
+  ASSERT_TRUE(rx->receive(got, 1.0)) << rx->lastError();
+  EXPECT_EQ(got, f);  // the receive time is not part of the frame's identity
+  const double sent = static_cast<double>(before.tv_sec) + 1e-6 * static_cast<double>(before.tv_usec);
+  EXPECT_GE(got.received, sent - 0.001);
+  EXPECT_LT(got.received, sent + 0.1);
 }
 
 TEST(UdpCanBus, FiltersDoNotStealFrames) {

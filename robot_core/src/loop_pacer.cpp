@@ -6,13 +6,13 @@
 namespace robot_core {
 
 double LoopPacer::tokensAt(double t) const {
-  return std::min(kBurst, tokens_ + (t - last_) / period_);
+  return std::min(kBurst, tokens_ + (t - last_) / min_interval_);
 }
 
 double LoopPacer::next() const {
   if (!started_) return -std::numeric_limits<double>::infinity();
-  if (woken_) return last_ + std::max(0.0, 1.0 - tokens_) * period_;  // as soon as a token is there
-  return last_ + period_ * (patient_ ? 1.0 + patience_ : 1.0);
+  if (woken_) return last_ + std::max(0.0, 1.0 - tokens_) * min_interval_;  // as soon as a token is there
+  return last_ + period_ * (patient_ ? 1.0 + kPatience : 1.0);
 }
 
 void LoopPacer::ran(double now) {

@@ -150,3 +150,68 @@ TEST(LoopPacer, InputsSlowerThanItsRateDoNotPullTheLoopBelowIt) {
     EXPECT_LE(runs.size(), 4.0 / 0.02 + 2) << "commands every " << gap << " s";
   }
 }
+
+namespace {
+
+// The worst wait for a run of the inputs between `from` and `until` s.
+double worstWait(const std::vector<double>& inputs, const std::vector<double>& runs, double from, double until = 1e9) {
+  double worst = 0.0;
+  for (double t : inputs) {
+    if (t < from || t >= until) continue;
+    const auto it = std::lower_bound(runs.begin(), runs.end(), t - 1e-9);
+    if (it == runs.end()) return 1e9;
+    worst = std::max(worst, *it - t);
+  }
+  return worst;
+}
+
+// A 50 Hz sensor 7 ms after the loop's phase, and at 1.0 s and 1.5 s a reading from a second
+// source: two runs more than the stream's rate.
+std::vector<double> streamWithTwoExtras() {
+  std::vector<double> inputs;
+  for (int k = 0; k < 200; ++k) inputs.push_back(0.007 + 0.02 * k);
+  inputs.push_back(1.0);
+  inputs.push_back(1.5);
+  std::sort(inputs.begin(), inputs.end());
+  return inputs;
+}
+
+}  // namespace
+
+TEST(LoopPacer, AStreamAsFastAsTheCeilingWaitsForItsTokensForGoodAfterTwoExtraRuns) {
+  // Why a woken loop needs a ceiling above its stream: with none, the two extra runs empty the
+  // bucket and every later reading waits for its token (here 13 ms of each 20 ms period).
+  LoopPacer p(0.02);
+  const auto inputs = streamWithTwoExtras();
+  const auto runs = simulate(p, inputs, 4.0);
+  EXPECT_LT(worstWait(inputs, runs, 0.0, 0.99), 0.0002);  // at once before the extras...
+  EXPECT_GT(worstWait(inputs, runs, 3.0), 0.010);          // ...long after them, 13 ms late
+  EXPECT_LT(worstWait(inputs, runs, 0.0), 0.02);           // (never more than a period)
+}
+
+TEST(LoopPacer, ACeilingAboveTheStreamRefillsWhatExtraRunsTake) {
+  LoopPacer p(0.02, 0.01);  // 50 Hz loop, 100 Hz ceiling
+  const auto inputs = streamWithTwoExtras();
+  const auto runs = simulate(p, inputs, 4.0);
+  EXPECT_LT(worstWait(inputs, runs, 0.0), 0.0002);  // every input at once, extras included
+  // The runs still follow the stream: about 50 a second, not the ceiling's 100.
+  EXPECT_LE(runs.size(), inputs.size() + 2);
+}
+
+TEST(LoopPacer, AFloodStaysUnderTheCeiling) {
+  LoopPacer p(0.02, 0.01);
+  std::vector<double> inputs;
+  for (int k = 0; k < 10000; ++k) inputs.push_back(k * 0.0003);
+  const auto runs = simulate(p, inputs, 3.0);
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const auto end = std::upper_bound(runs.begin(), runs.end(), runs[i] + 1.0 - 1e-9);
+    EXPECT_LE(end - (runs.begin() + i), 102);  // max_rate + 2 in any second
+  }
+  EXPECT_GE(runs.size(), 3.0 / 0.01 - 2);
+}
+
+TEST(LoopPacer, WithoutInputsACeilingAboveTheRateKeepsThePeriod) {
+  LoopPacer p(0.02, 0.01);
+  const auto runs = simulate(p, {}, 2.0);
+  EXPECT_NEAR(static_cast<double>(runs.size()), 2.0 / 0.02 + 1, 1.0);
+}

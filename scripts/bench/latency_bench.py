@@ -55,6 +55,11 @@ def main():
     ages = [1e3 * a for a in b.pose_ages[len(b.pose_ages) // 10:]]
     if ages:
         print('pose age at arrival: p50 %.1f ms  p99 %.1f ms  (n %d)' % (percentile(ages, 50), percentile(ages, 99), len(ages)))
+    for name, d in (('/mcl/pose', b.pose_after_odom), ('tf map -> odom', b.tf_after_odom)):
+        d = [1e3 * a for a in d[len(d) // 10:]]
+        if d:
+            print('%s after the /odom it includes: p50 %.1f ms  p99 %.1f ms  (n %d)' % (
+                name, percentile(d, 50), percentile(d, 99), len(d)))
     print('figures pose_age_p99_ms %.1f' % (percentile(ages, 99) if ages else nan))
     b.sniffer.close()
     return 0 if len(events) >= max(1, n // 2) else 1

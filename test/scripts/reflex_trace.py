@@ -10,7 +10,9 @@ the opponent in front of it inside the trigger's distance and stop driving; the 
 Avoidance (the driver alone, the brain's trigger out of reach): a driver goto, the opponent
 put ahead within the driver's braking reach; from the ranger PDO to the first frame whose PWM is
 lower than before the reading (the driver brakes on a ramp: the decision, not the stop).
-Pose age: how old /mcl/pose is when it arrives (ROS time at arrival - its stamp).
+Pose age: how old /mcl/pose is when it arrives (ROS time at arrival - its stamp); and how long
+after the odometry it includes (/odom of the same stamp) it arrives, for /mcl/pose and for the
+tf map -> odom (stamped that odometry's stamp + the transform tolerance).
 
 Times are wall-clock receive times: can_dump's for the frames (end to end), subscriptions
 (no Nagle) in this process for the topics in between (they carry this process's own delays).
@@ -31,6 +33,7 @@ from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry
 from robot_sim.srv import PlaceOpponent
 from sensor_msgs.msg import Range
+from tf2_msgs.msg import TFMessage
 
 FRONT = ['sharp_front_left', 'sharp_front_right']
 
@@ -121,7 +124,13 @@ class ReflexBench(object):
         self.cmd_vel = Log('/hal/drive/cmd_vel', Twist)
         self.motor_cmd = Log('/hcl/motor_board/motor/left/command', MotorCommand)
         self.pose_ages = []
+        self.odom_arrivals = {}  # /odom stamp -> wall receive time
+        self.pose_after_odom = []
+        self.tf_after_odom = []
+        self.tf_tolerance = rospy.get_param('/hal/localization/transform_tolerance', 0.1)
+        rospy.Subscriber('/odom', Odometry, self._odom, queue_size=50, tcp_nodelay=True)
         rospy.Subscriber('/mcl/pose', PoseWithCovarianceStamped, self._pose, queue_size=50, tcp_nodelay=True)
+        rospy.Subscriber('/tf', TFMessage, self._tf, queue_size=200, tcp_nodelay=True)
         self.truth = None
         rospy.Subscriber('/sim/ground_truth', Odometry, self._truth, queue_size=1)
         self.refresh_ms = {}
@@ -131,8 +140,25 @@ class ReflexBench(object):
         self.place_srv = rospy.ServiceProxy('/sim/place_opponent', PlaceOpponent)
         self.goto = actionlib.SimpleActionClient('/hal/driver/goto', GotoAction)
 
+    def _odom(self, m):
+        self.odom_arrivals[m.header.stamp.to_nsec()] = time.time()
+        if len(self.odom_arrivals) > 2000:
+            for k in sorted(self.odom_arrivals)[:1000]:
+                del self.odom_arrivals[k]
+
+    def _after_odom(self, stamp_ns, out):
+        t = self.odom_arrivals.get(stamp_ns)
+        if t is not None:
+            out.append(time.time() - t)
+
     def _pose(self, m):
         self.pose_ages.append((rospy.Time.now() - m.header.stamp).to_sec())
+        self._after_odom(m.header.stamp.to_nsec(), self.pose_after_odom)
+
+    def _tf(self, m):
+        for t in m.transforms:
+            if t.child_frame_id == 'odom':
+                self._after_odom((t.header.stamp - rospy.Duration(self.tf_tolerance)).to_nsec(), self.tf_after_odom)
 
     def _diagnostics(self, m):
         for st in m.status:

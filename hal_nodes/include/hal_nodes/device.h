@@ -79,6 +79,13 @@ class Device {
     return input;
   }
 
+  // For a device that subscribes on its own (a queue of every message, not addInput's newest
+  // value): a message stamped `stamp` arrived that should run refresh() at once, as a
+  // Wake::kOnArrival input does.
+  void wakeRefresh(const ros::Time& stamp) {
+    if (wake_) wake_(stamp);
+  }
+
   void setAvailable() { setUnavailable(""); }
   void setUnavailable(const std::string& reason) {
     std::lock_guard<std::mutex> lk(status_mutex_);

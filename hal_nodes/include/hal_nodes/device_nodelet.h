@@ -1,9 +1,11 @@
 // The nodelet that hosts one Device: validates ~rate, runs refresh() at that rate (and when a
-// waking input arrives, paced by robot_core::LoopPacer so the rate stays a ceiling), follows
+// waking input arrives, paced by robot_core::LoopPacer so ~max_rate stays a ceiling), follows
 // /effectors/deactivated for effectors, and reports on /diagnostics: rate achieved, the
 // sample age of every input, and why the device is unavailable.
 //
-// Common parameters: ~rate [Hz] (required, > 0), ~diagnostic_period [s] (default 0.25),
+// Common parameters: ~rate [Hz] (required, > 0), ~max_rate [Hz] (rate .. 10 rate, default the
+// rate: the ceiling of the runs its inputs wake; set it above the rate of the streams that wake
+// the device, see robot_core/loop_pacer.h), ~diagnostic_period [s] (default 0.25),
 // ~startup_grace [s] (WARN, not ERROR, while unavailable since start; default 5), ~required
 // (default true; false: an optional device, e.g. the joystick's, that the brain's readiness does
 // not wait for; published as the `required` value of its status).
@@ -58,6 +60,7 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
   ros::Subscriber deactivated_sub_;
   double rate_ = 0.0;
+  double max_rate_ = 0.0;  // ~max_rate: the ceiling of woken runs
   // Start-up: a device whose inputs have not arrived yet within ~startup_grace of its start is
   // "starting" (WARN), not a fault; once it has worked, or after the grace, unavailable is ERROR.
   double startup_grace_ = 5.0;  // [s, ROS time]

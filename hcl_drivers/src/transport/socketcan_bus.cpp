@@ -14,6 +14,8 @@
 #include <cstring>
 #include <system_error>
 
+#include "receive_timestamp.h"
+
 namespace hcl_drivers {
 namespace transport {
 
@@ -36,6 +38,8 @@ int openRaw(int ifindex, const std::string& iface) {
   sockaddr_can addr{};
   addr.can_family = AF_CAN;
   addr.can_ifindex = ifindex;
+  const int on = 1;  // kernel receive timestamps (CanFrame::received)
+  ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
   if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
     const int err = errno;
     ::close(fd);
@@ -102,12 +106,20 @@ class SocketCanChannel : public CanChannel {
       return false;
     }
     can_frame k{};
-    const ssize_t n = ::read(fd_, &k, sizeof(k));
+    iovec iov{&k, sizeof(k)};
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
+    msghdr msg{};
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    msg.msg_control = control;
+    msg.msg_controllen = sizeof(control);
+    const ssize_t n = ::recvmsg(fd_, &msg, 0);
     if (n != static_cast<ssize_t>(sizeof(k))) {
-      last_error_ = n < 0 ? std::string("read: ") + std::strerror(errno) : "short read";
+      last_error_ = n < 0 ? std::string("recvmsg: ") + std::strerror(errno) : "short read";
       return false;
     }
     f = fromKernel(k);
+    f.received = receiveTimestamp(msg);
     bus_->noteRx();
     return true;
   }

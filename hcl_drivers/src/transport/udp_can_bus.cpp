@@ -10,6 +10,8 @@
 #include <cstring>
 #include <system_error>
 
+#include "receive_timestamp.h"
+
 namespace hcl_drivers {
 namespace transport {
 
@@ -74,6 +76,8 @@ int makeSocket() {
   if (fd < 0) throw std::system_error(errno, std::generic_category(), "socket(AF_INET, SOCK_DGRAM)");
   int buf = 1 << 20;
   ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &buf, sizeof(buf));
+  const int on = 1;  // kernel receive timestamps (CanFrame::received)
+  ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
   return fd;
 }
 }  // namespace
@@ -240,9 +244,9 @@ bool UdpCanBus::sendFrom(Channel* sender, const CanFrame& f, std::string& error)
   return ok;
 }
 
-void UdpCanBus::handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr_in& from) {
+void UdpCanBus::handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr_in& from, double received) {
   uint8_t kind = 0;
-  const auto f = udp_can::decode(buf, n, &kind);
+  auto f = udp_can::decode(buf, n, &kind);
   if (!f) {
     std::lock_guard<std::mutex> lk(status_mutex_);
     ++status_.malformed;
@@ -271,6 +275,7 @@ void UdpCanBus::handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr
     status_.frameReceived(nowS());
     if (status_.state == BusState::kBusOff) return;  // a bus-off controller receives nothing
   }
+  f->received = received;
   deliverLocal(*f, nullptr);
 }
 
@@ -300,10 +305,18 @@ void UdpCanBus::run() {
     // Drain everything queued before going back to the timers.
     while (true) {
       sockaddr_in from{};
-      socklen_t len = sizeof(from);
-      const ssize_t n = ::recvfrom(fd_, buf, sizeof(buf), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from), &len);
+      iovec iov{buf, sizeof(buf)};
+      alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
+      msghdr msg{};
+      msg.msg_name = &from;
+      msg.msg_namelen = sizeof(from);
+      msg.msg_iov = &iov;
+      msg.msg_iovlen = 1;
+      msg.msg_control = control;
+      msg.msg_controllen = sizeof(control);
+      const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT);
       if (n < 0) break;  // EAGAIN, or ECONNREFUSED from a vanished hub
-      handleDatagram(buf, static_cast<std::size_t>(n), from);
+      handleDatagram(buf, static_cast<std::size_t>(n), from, receiveTimestamp(msg));
     }
   }
 }

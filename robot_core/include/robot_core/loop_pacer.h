@@ -1,11 +1,15 @@
 // When a periodic loop that an input may wake runs next (the HAL's device loops, the HCL's
 // board loops). The pull model's loops poll at their configured rate; an input that matters at
 // once (a ranger reading, a motor command) wakes its loop instead of waiting up to a period for
-// the next tick. The configured rate stays a ceiling:
-//   * runs are paced by a token bucket at the configured rate holding at most two tokens: over
-//     any window of T seconds the loop runs at most T * rate + 2 times, so a flood of inputs
-//     cannot raise its rate. One spare token lets an input that comes between two ticks be
-//     served at once, and the loop's phase then follows its inputs;
+// the next tick. A configured ceiling (max_rate, by default the rate itself) bounds the runs:
+//   * runs are paced by a token bucket at the ceiling holding at most two tokens: over any
+//     window of T seconds the loop runs at most T * max_rate + 2 times, so a flood of inputs
+//     cannot raise it. One spare token lets an input that comes between two ticks be served at
+//     once, and the loop's phase then follows its inputs;
+//   * a loop woken by a stream as fast as its ceiling has no margin: every extra run (a tick
+//     while an input was late, a second source) costs a token for good, and from then on each
+//     input waits for its token, a fixed part of a period, for the rest of the run. A ceiling
+//     above the stream's rate refills what such runs take;
 //   * without inputs the loop runs once per period, drift-free, like a plain timer;
 //   * after a woken run that came within 1.2 periods of the run before it (inputs at the loop's
 //     own rate), the next tick waits half a period longer: an input that comes a little late
@@ -20,7 +24,10 @@ class LoopPacer {
  public:
   static constexpr double kBurst = 2.0;  // tokens the bucket holds
 
-  explicit LoopPacer(double period_s, double patience = 0.5) : period_(period_s), patience_(patience) {}
+  // `period_s`: the loop's period without inputs; `min_interval_s` (<= period_s, 0: the period):
+  // 1 / the ceiling, the token bucket's refill.
+  explicit LoopPacer(double period_s, double min_interval_s = 0.0)
+      : period_(period_s), min_interval_(min_interval_s > 0.0 && min_interval_s < period_s ? min_interval_s : period_s) {}
 
   // An input arrived: the loop runs at next(), at once when it has a token.
   void wake() { woken_ = true; }
@@ -43,8 +50,9 @@ class LoopPacer {
   double period() const { return period_; }
 
  private:
+  static constexpr double kPatience = 0.5;  // [periods] the next tick's wait after a woken run at the loop's rate
   double period_;
-  double patience_;
+  double min_interval_;
   bool started_ = false;
   bool woken_ = false;
   bool patient_ = false;  // the last run was woken within 1.2 periods of the one before

@@ -6,13 +6,16 @@
 //              and the table model (from /table: off-table and in-obstacle poses are impossible)
 // Every input message is an event processed in header-stamp order once the newest odometry is
 // ~latency newer (input_events.h): a bag replayed through this device alone gives the same
-// estimates run after run with a fixed ~seed.
+// estimates run after run with a fixed ~seed. Each new /odom wakes the refresh at once, and the
+// estimate goes out carried forward to that odometry (carried_pose.h): fresh, and still the same
+// at the same stamp in a replay.
 //
 // Outputs: /mcl/pose (geometry_msgs/PoseWithCovarianceStamped), /mcl/quality
 // (hal_nodes/LocalizationQuality: probability the estimate is right, lost flag), /mcl/particlecloud
 // (geometry_msgs/PoseArray), /mcl/beacon_belts (visualization_msgs/MarkerArray), tf map -> odom
-// (REP-105, from the estimate and /odom's odom -> base_link at the same stamp). Outputs carry the
-// stamp of the newest odometry applied: the time the particles' motion refers to.
+// (REP-105, from the estimate and /odom's odom -> base_link at the same stamp). The pose, quality
+// and tf carry the stamp of the newest odometry received; the particle cloud and the belts that of
+// the newest odometry applied: the time the particles' motion refers to.
 // In: /initialpose (rviz "2D Pose Estimate"); service ~global_localization (std_srvs/Empty).
 //
 // Parameters (besides ~rate; all optional, defaults in brackets):
@@ -57,6 +60,7 @@
 
 #include "hal_nodes/device_nodelet.h"
 #include "hal_nodes/mcl/mcl.h"
+#include "carried_pose.h"
 #include "input_events.h"
 #include "localization_config.h"
 #include "localization_outputs.h"
@@ -68,6 +72,8 @@ namespace {
 using mcl::Pose2D;
 using localization::LocalizationConfig;
 using localization::LocalizationOutputs;
+using localization::NewestOdometry;
+using localization::carryForward;
 
 struct Payload {
   enum Kind { kOdom, kPair, kBeacon, kCompass, kRanger, kBumpers } kind = kOdom;
@@ -134,13 +140,27 @@ class LocalizationDevice : public Device {
         }
       }
       updates_ += steps;
-      // The particles stand where the newest applied odometry put them: the estimate is stamped
-      // with that odometry's stamp, not a later measurement's (odometry stalled on a loaded HCL
-      // would otherwise date an old position as new). Nothing new to date: nothing published.
-      const double stamp = have_odom_ ? odom_stamp_ : last_step_;
-      if (steps > 0 && stamp != published_stamp_) {  // != : a replayed bag may restart the clock
-        published_stamp_ = stamp;
-        outputs_->publish(stamp, *filter_, have_odom_ ? &odom_pose_ : nullptr, beacons_.get(), last_step_);
+      // The particles stand where the newest applied odometry put them; the odometry received
+      // since carries the estimate to the present. Outputs are dated by odometry, never by a
+      // later measurement (odometry stalled on a loaded HCL would otherwise date an old
+      // position as new). Nothing new to date: nothing published.
+      if (have_odom_) {
+        NewestOdometry newest;
+        {
+          std::lock_guard<std::mutex> lk2(stamp_mutex_);
+          if (newest_odom_pose_.have() && newest_odom_pose_.stamp() < odom_stamp_) newest_odom_pose_.reset();  // the clock went back
+          newest = newest_odom_pose_;
+        }
+        const double stamp = newest.have() ? newest.stamp() : odom_stamp_;
+        const Pose2D pose = newest.have() ? carryForward(filter_->estimate().pose, odom_pose_, newest.pose())
+                                          : filter_->estimate().pose;
+        if (stamp != published_stamp_) {  // != : a replayed bag may restart the clock
+          published_stamp_ = stamp;
+          outputs_->publish(stamp, pose, *filter_, odom_stamp_, &odom_pose_, beacons_.get(), last_step_);
+        }
+      } else if (steps > 0 && last_step_ != published_stamp_) {  // measurements without odometry
+        published_stamp_ = last_step_;
+        outputs_->publish(last_step_, filter_->estimate().pose, *filter_, last_step_, nullptr, beacons_.get(), last_step_);
       }
     }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -184,7 +204,8 @@ class LocalizationDevice : public Device {
     subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(c.odom_topic, 200, [this](const nav_msgs::Odometry::ConstPtr& m) {
       // The primary odometry goes after the pairs of the same stamp: it triggers the step.
       push(m->header.stamp, 1, odometryPayload(Payload::kOdom, 0, *m));
-    }));
+      wakeRefresh(m->header.stamp);  // the estimate follows it out at once
+    }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
     for (std::size_t i = 0; i < c.pair_topics.size(); ++i)
       subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(c.pair_topics[i], 200, [this, i](const nav_msgs::Odometry::ConstPtr& m) {
         push(m->header.stamp, 0, odometryPayload(Payload::kPair, static_cast<int>(i), *m));
@@ -253,7 +274,11 @@ class LocalizationDevice : public Device {
     }
     {
       std::lock_guard<std::mutex> lk(stamp_mutex_);
-      if (p.kind == Payload::kOdom) newest_odom_ = std::max(newest_odom_, t);
+      if (p.kind == Payload::kOdom) {
+        newest_odom_ = std::max(newest_odom_, t);
+        const Pose2D q{p.a, p.b, p.c};
+        if (std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.theta)) newest_odom_pose_.offer(t, q);
+      }
       newest_any_ = std::max(newest_any_, t);
     }
     events_.push(t, order, std::move(p));
@@ -326,6 +351,7 @@ class LocalizationDevice : public Device {
   localization::InputEvents<Payload> events_;
   std::mutex stamp_mutex_;
   double newest_odom_ = -1e300, newest_any_ = 0.0;
+  localization::NewestOdometry newest_odom_pose_;  // what the published estimate is carried to
   std::mutex filter_mutex_;
   Pose2D odom_pose_;
   bool have_odom_ = false;

@@ -40,14 +40,15 @@ LocalizationOutputs::LocalizationOutputs(ros::NodeHandle& nh, const Localization
   belts_pub_ = nh.advertise<visualization_msgs::MarkerArray>("/mcl/beacon_belts", 1);
 }
 
-void LocalizationOutputs::publish(double at, const mcl::Filter& filter, const mcl::Pose2D* odom_pose,
-                                  const mcl::BeaconBelts* beacons, double last_step) {
+void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const mcl::Filter& filter,
+                                  double filter_stamp, const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons,
+                                  double last_step) {
   const auto& e = filter.estimate();
   const ros::Time stamp(at);
   geometry_msgs::PoseWithCovarianceStamped pose;
   pose.header.stamp = stamp;
   pose.header.frame_id = map_frame_;
-  pose.pose.pose = toMsg(e.pose);
+  pose.pose.pose = toMsg(carried);
   const int idx[3] = {0, 1, 5};  // x, y, yaw in the 6x6 covariance
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) pose.pose.covariance[idx[r] * 6 + idx[c]] = e.cov[r * 3 + c];
@@ -62,7 +63,8 @@ void LocalizationOutputs::publish(double at, const mcl::Filter& filter, const mc
   quality_pub_.publish(q);
 
   if (publish_tf_ && odom_pose) {
-    // map -> odom = estimate (map -> base) composed with the inverse of odom -> base at the same step.
+    // map -> odom = estimate (map -> base) composed with the inverse of odom -> base at the same
+    // step; the carried pose gives the same, so it holds from `at` on.
     const Pose2D inv_odom = mcl::between(*odom_pose, {0, 0, 0});
     const Pose2D map_odom = mcl::compose(e.pose, inv_odom);
     geometry_msgs::TransformStamped t;
@@ -76,17 +78,18 @@ void LocalizationOutputs::publish(double at, const mcl::Filter& filter, const mc
     tf_.sendTransform(t);
   }
 
-  if (at - last_cloud_ >= cloud_period_) {
-    last_cloud_ = at;
+  if (std::abs(filter_stamp - last_cloud_) >= cloud_period_) {  // abs: a replayed bag may restart the clock
+    last_cloud_ = filter_stamp;
     if (cloud_pub_.getNumSubscribers() > 0) {
       const auto& s = filter.particles();
       geometry_msgs::PoseArray cloud;
-      cloud.header = pose.header;
+      cloud.header.stamp = ros::Time(filter_stamp);  // the particles are not carried forward
+      cloud.header.frame_id = map_frame_;
       cloud.poses.reserve(s.size());
       for (std::size_t i = 0; i < s.size(); ++i) cloud.poses.push_back(toMsg({s.x[i], s.y[i], s.theta[i]}));
       cloud_pub_.publish(cloud);
     }
-    if (beacons && belts_pub_.getNumSubscribers() > 0) publishBelts(stamp, *beacons, last_step);
+    if (beacons && belts_pub_.getNumSubscribers() > 0) publishBelts(ros::Time(filter_stamp), *beacons, last_step);
   }
 }
 

@@ -1,4 +1,4 @@
-// What the Localization device publishes after a filter step: /mcl/pose, /mcl/quality, tf
+// What the Localization device publishes for each new odometry: /mcl/pose, /mcl/quality, tf
 // map -> odom (REP-105), and at ~cloud_rate the particle cloud and the beacon belts for rviz.
 #pragma once
 
@@ -16,10 +16,12 @@ class LocalizationOutputs {
  public:
   LocalizationOutputs(ros::NodeHandle& nh, const LocalizationConfig& config);
 
-  // The filter's estimate at `at` (the applied odometry's stamp). `odom_pose`: odom -> base_link
-  // at that step, for map -> odom (none: no tf). `beacons` may be null; `last_step` dates the belts.
-  void publish(double at, const mcl::Filter& filter, const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons,
-               double last_step);
+  // `pose`: the filter's estimate carried to `at` (the newest odometry's stamp; carried_pose.h).
+  // The filter itself stands at `filter_stamp` (the applied odometry's stamp), where `odom_pose`
+  // is odom -> base_link, for map -> odom (none: no tf). `beacons` may be null; `last_step`
+  // dates the belts.
+  void publish(double at, const mcl::Pose2D& pose, const mcl::Filter& filter, double filter_stamp,
+               const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons, double last_step);
 
  private:
   // One circle per beacon whose latest range is recent: the belt the particles are weighed by.

@@ -17,6 +17,9 @@ struct CanFrame {
   bool error = false;      // error frame (see can_error.h)
   uint8_t dlc = 0;         // 0..8
   std::array<uint8_t, 8> data{};
+  // When the frame reached this process's socket, wall clock [s] (the kernel's receive
+  // timestamp, as candump's): 0 for a frame made here. Not part of the frame's identity.
+  double received = 0.0;
 
   static CanFrame make(uint32_t id, std::initializer_list<uint8_t> bytes) {
     CanFrame f;

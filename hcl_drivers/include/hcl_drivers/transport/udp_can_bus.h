@@ -63,7 +63,7 @@ class UdpCanBus : public CanBus, public std::enable_shared_from_this<UdpCanBus> 
   void run();
   bool tryBecomeHub();
   void deliverLocal(const CanFrame& f, const Channel* except);
-  void handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr_in& from);
+  void handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr_in& from, double received);
 
   sockaddr_in hub_addr_{};
   std::atomic<int> fd_{-1};
