@@ -99,9 +99,13 @@ void DeviceNodeletBase::wake(const ros::Time& stamp) {
       if (!gathering_ || (now - gather_started_).toSec() >= kGatherLimit) return;
     } else {
       // The other readings of an exchange that was already refreshed do not wake it again: one
-      // board exchange costs one run of the rate limit, however its topics were delayed.
-      if (stamp <= newest_woken_stamp_) return;
-      newest_woken_stamp_ = stamp;
+      // board exchange costs one run of the rate limit, however its topics were delayed. (A
+      // message without a stamp, a velocity command, always wakes: under a simulated clock two
+      // of them often arrive at the same ROS time.)
+      if (!stamp.isZero()) {
+        if (stamp <= newest_woken_stamp_) return;
+        newest_woken_stamp_ = stamp;
+      }
       pacer_.wake();
       const double wait = pacer_.next() - now.toSec();  // > 0: no token yet
       wake_posted_ = true;

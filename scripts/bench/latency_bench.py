@@ -20,6 +20,10 @@ def report(name, events, hops):
         if d:
             print('  %-26s p50 %6.2f ms  p99 %6.2f ms  (n %d)' % ('%s -> %s' % (a, b), percentile(d, 50), percentile(d, 99), len(d)))
     total = [1e3 * (e['bus'] - e['pdo']) for e in events]
+    names = [a for a, _ in hops] + [hops[-1][1]]
+    for e in sorted(events, key=lambda e: e['pdo'] - e['bus'])[:3]:  # the slowest: where their time went
+        print('  slow event %.1f ms: %s' % (1e3 * (e['bus'] - e['pdo']), '  '.join(
+            '%s %+.1f' % (k, 1e3 * (e[k] - e['pdo'])) if e.get(k) is not None else '%s -' % k for k in names)))
     if total:
         print('  %-26s p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms' % ('bus frame -> bus frame', percentile(total, 50),
                                                                    percentile(total, 99), max(total)))
@@ -44,7 +48,7 @@ def main():
         print('figures reflex_p50_ms %.1f reflex_p99_ms %.1f' % (percentile(total, 50), percentile(total, 99)))
     else:
         events = b.avoidance_events(n)
-        total = report('avoidance (the driver alone; the end is the first braking frame)', events,
+        total = report('avoidance (the driver alone; from the reading it acted on to the frame carrying its first braking command)', events,
                        [('pdo', 'hcl'), ('hcl', 'hal'), ('hal', 'brain'), ('brain', 'command'), ('command', 'bus')])
         print('figures avoid_p99_ms %.1f' % percentile(total, 99))
     print('HAL devices, mean refresh time [ms]: ' + ', '.join(

@@ -1,6 +1,6 @@
 """Follows a ranger reading through every hop of the simulated 2009 robot, from the CAN frame
-that carries it to the CAN frame that stops the motors, for scripts/bench/latency_bench.py (here
-beside the test support, for the rostest that will bound the reflex once its runs agree).
+that carries it to the CAN frame that stops the motors, for scripts/bench/latency_bench.py and
+the reflex_latency rostest.
 
 Reflex (the brain's opponent_ahead trigger): drive the robot forward on /hal/drive/cmd_vel, put
 the opponent in front of it inside the trigger's distance and stop driving; the hops are
@@ -8,13 +8,15 @@ the opponent in front of it inside the trigger's distance and stop driving; the 
     -> HAL /hal/rangers/<front> -> brain: zero on /hal/drive/cmd_vel
     -> HAL drive: zero on /hcl/motor_board/motor/left/command -> motor board command frame (PWM 0).
 Avoidance (the driver alone, the brain's trigger out of reach): a driver goto, the opponent
-put ahead within the driver's braking reach; from the ranger PDO to the first frame whose PWM is
-lower than before the reading (the driver brakes on a ramp: the decision, not the stop).
+put ahead within the driver's braking reach; from the PDO of the reading the driver acted on (the
+last front reading before its first braking command: the first reading under the detection
+distance may still leave the obstacle off the route) to the motor board frame carrying the
+drive's wheel command for it (the driver brakes on a ramp: the decision, not the stop).
 Pose age: how old /mcl/pose is when it arrives (ROS time at arrival - its stamp); and how long
 after the odometry it includes (/odom of the same stamp) it arrives, for /mcl/pose and for the
 tf map -> odom (stamped that odometry's stamp + the transform tolerance).
 
-Times are wall-clock receive times: can_dump's for the frames (end to end), subscriptions
+Times are wall-clock receive times: can_dump's for the frames (the kernel's, end to end), subscriptions
 (no Nagle) in this process for the topics in between (they carry this process's own delays).
 No extra topic is published by the product. The opponent is placed with the simulator's
 /sim/place_opponent, a test tool's privilege."""
@@ -102,9 +104,9 @@ class Log(object):
                     return ti, m
         return None
 
-    def last_before(self, t):
+    def last_before(self, t, pred=lambda m: True):
         with self.lock:
-            hits = [(ti, m) for ti, m in self.items if ti <= t]
+            hits = [(ti, m) for ti, m in self.items if ti <= t and pred(m)]
         return hits[-1] if hits else None
 
 
@@ -116,6 +118,7 @@ class ReflexBench(object):
         self.ranger_cob = int(rospy.get_param('/hcl/servo_board/ranger_cob_id', 0x180 + rospy.get_param('/hcl/servo_board/node_id')))
         self.trigger_distance = rospy.get_param('/brain/triggers/opponent_ahead/distance')
         self.detection = rospy.get_param('/hal/driver/avoidance/detection_distance')
+        self.max_accel = rospy.get_param('/hal/driver/limits/max_linear_accel')
         self.robot_radius = rospy.get_param('/robot/radius')
         self.opponent_radius = rospy.get_param('/sim/world/opponent/radius')
         self.sniffer = CanSniffer(bus, [self.motor_cob, self.ranger_cob])
@@ -192,15 +195,9 @@ class ReflexBench(object):
             self.drive.publish(t)
             time.sleep(0.02)
 
-    @staticmethod
-    def pwm_sum(data):
-        left, right = struct.unpack_from('<hh', data, 0)
-        return abs(left) + abs(right)
-
-    def trace_from(self, t_place, threshold, braking=False):
-        """The hops of the first front reading under `threshold` after t_place; None if missing.
-        The end is the first motor board frame with PWM 0 or, with `braking`, the first frame
-        whose PWM is lower than the last one before the reading (the driver brakes on a ramp)."""
+    def trace_from(self, t_place, threshold):
+        """The reflex's hops of the first front reading under `threshold` after t_place, to the
+        first motor board frame with PWM 0; None if missing."""
         firsts = [self.hcl[n].first_after(t_place, lambda m: m.range < threshold) for n in FRONT]
         firsts = [f for f in firsts if f]
         if not firsts:
@@ -209,30 +206,52 @@ class ReflexBench(object):
         pdo = self.sniffer.last_before(self.ranger_cob, t_hcl)
         if not pdo:
             return None
-        if braking:
-            before = self.sniffer.last_before(self.motor_cob, pdo[0])
-            if not before or self.pwm_sum(before[2]) == 0:
-                return None  # not moving when the reading came
-            cruise = self.pwm_sum(before[2])
-            stop = self.sniffer.first_after(self.motor_cob, pdo[0], lambda d: self.pwm_sum(d) < cruise)
-        else:
-            stop = self.sniffer.first_after(self.motor_cob, pdo[0], self.pwm_zero)
+        stop = self.sniffer.first_after(self.motor_cob, pdo[0], self.pwm_zero)
         if not stop:
             return None
         hal = [self.hal[n].first_after(t_hcl, lambda m: m.range < threshold) for n in FRONT]
         hal = [h for h in hal if h]
         t_hal = min(h[0] for h in hal) if hal else None
-        if braking:
-            last = self.cmd_vel.last_before(t_hcl)
-            brain = self.cmd_vel.first_after(t_hcl, lambda m: last is not None and m.linear.x < last[1].linear.x)
-            cmd_before = self.motor_cmd.last_before(t_hcl)
-            cmd = self.motor_cmd.first_after(brain[0] if brain else t_hcl,
-                                             lambda m: cmd_before is not None and abs(m.value) < abs(cmd_before[1].value))
-        else:
-            brain = self.cmd_vel.first_after(t_hcl, lambda m: m.linear.x == 0.0 and m.angular.z == 0.0)
-            cmd = self.motor_cmd.first_after(brain[0] if brain else t_hcl, lambda m: m.value == 0)
+        brain = self.cmd_vel.first_after(t_hcl, lambda m: m.linear.x == 0.0 and m.angular.z == 0.0)
+        cmd = self.motor_cmd.first_after(brain[0] if brain else t_hcl, lambda m: m.value == 0)
         return {'pdo': pdo[0], 'hcl': t_hcl, 'hal': t_hal, 'brain': brain[0] if brain else None,
-                'command': cmd[0] if cmd else None, 'bus': stop[0]}  # 'brain': the driver's braking command in avoid mode
+                'command': cmd[0] if cmd else None, 'bus': stop[0]}
+
+    def braking_trace(self, t_place, threshold):
+        """The driver's avoidance: its first braking command after t_place (the speed falls by at
+        least half the deceleration limit over the time since the command before: steering
+        jitter is not braking), the front reading it acted on (the last one under `threshold`
+        before it), and back to that reading's frame; forward to the drive's wheel command and
+        the motor board frame that carries it. None if missing."""
+        with self.cmd_vel.lock:
+            cmds = [(t, m) for t, m in self.cmd_vel.items if t >= t_place - 0.1]
+        brain = None
+        for (t0, m0), (t1, m1) in zip(cmds, cmds[1:]):
+            if t1 >= t_place and m0.linear.x - m1.linear.x >= 0.5 * self.max_accel * (t1 - t0):
+                brain = t1
+                break
+        if brain is None:
+            return None
+        acted = [self.hal[n].last_before(brain) for n in FRONT]
+        acted = [a for a in acted if a and a[0] >= t_place and a[1].range < threshold]
+        if not acted:
+            return None
+        t_hal, reading = max(acted, key=lambda a: a[0])
+        # The HCL message of the same board exchange (same stamp), and the frame that carried it.
+        hcl = [self.hcl[n].last_before(t_hal, lambda m: m.header.stamp == reading.header.stamp) for n in FRONT]
+        hcl = [h for h in hcl if h]
+        if not hcl:
+            return None
+        t_hcl = min(h[0] for h in hcl)
+        pdo = self.sniffer.last_before(self.ranger_cob, t_hcl)
+        cmd = self.motor_cmd.first_after(brain)
+        if not pdo or not cmd:
+            return None
+        left = cmd[1].value
+        stop = self.sniffer.first_after(self.motor_cob, cmd[0], lambda d: struct.unpack_from('<h', d, 0)[0] == left)
+        if not stop:
+            return None
+        return {'pdo': pdo[0], 'hcl': t_hcl, 'hal': t_hal, 'brain': brain, 'command': cmd[0], 'bus': stop[0]}
 
     def reflex_events(self, n):
         """n stops by the brain's opponent_ahead trigger (each traced), or fewer if some fail."""
@@ -271,7 +290,7 @@ class ReflexBench(object):
             t_place = time.time()
             self.put_ahead(0.6 * self.trigger_distance)  # within the driver's braking reach: it brakes at once
             time.sleep(0.5)
-            tr = self.trace_from(t_place, self.detection, braking=True)
+            tr = self.braking_trace(t_place, self.detection)
             if tr:
                 out.append(tr)
             self.goto.cancel_all_goals()

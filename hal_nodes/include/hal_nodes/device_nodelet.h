@@ -36,7 +36,7 @@ class DeviceNodeletBase : public nodelet::Nodelet {
  private:
   void onInit() final;
   void onTimer(const ros::TimerEvent& e);
-  void wake(const ros::Time& stamp);  // a Wake::kOnArrival input arrived, stamped `stamp`
+  void wake(const ros::Time& stamp);  // a Wake::kOnArrival input arrived, stamped `stamp` (zero: none)
   void onGathered(const ros::TimerEvent& e);  // a woken refresh, after the gathering delay
   void restartGatherTimer(double delay);
   void refreshIfDue(bool tick);     // runs refresh() when the pacer allows it (tick: for the periodic timer)

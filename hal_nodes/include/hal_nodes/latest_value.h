@@ -83,14 +83,18 @@ class LatestValue : public InputStatus {
  public:
   using ConstPtr = typename M::ConstPtr;
 
-  // `on_arrival` (optional) runs after each message is stored, with the message's stamp (its
-  // arrival time when it has none): it wakes the reading device.
+  // `on_arrival` (optional) runs after each message is stored, with the message's header stamp,
+  // the board exchange it comes from; zero when it has none (a velocity command: each message
+  // is news of its own, however close in time to the last): it wakes the reading device.
   using OnArrival = std::function<void(const ros::Time& stamp)>;
   LatestValue(ros::NodeHandle& nh, const std::string& topic, std::string name, OnArrival on_arrival = nullptr)
       : name_(std::move(name)), topic_(nh.resolveName(topic)), on_arrival_(std::move(on_arrival)) {
     sub_ = nh.subscribe<M>(topic, 1, [this](const ConstPtr& m) {
-      const ros::Time stamp = cache_.store(m, ros::Time::now());
-      if (on_arrival_) on_arrival_(stamp);
+      cache_.store(m, ros::Time::now());
+      if (on_arrival_) {
+        const ros::Time* own = ros::message_traits::TimeStamp<M>::pointer(const_cast<M&>(*m));
+        on_arrival_(own ? *own : ros::Time());
+      }
     }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
 
