@@ -1,6 +1,6 @@
 // The published estimate carried forward to the newest odometry: it lands where the filter
-// would have put the robot after the same motion, and a late or replayed odometry does not
-// move it back.
+// would have put the robot after the same motion, and an odometry that arrives late does
+// not move it back.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -49,8 +49,5 @@ TEST(NewestOdometry, KeepsTheNewestByStampWhateverTheArrivalOrder) {
   EXPECT_DOUBLE_EQ(n.pose().x, 2.0);
   n.offer(3.0, {3, 0, 0});
   EXPECT_DOUBLE_EQ(n.stamp(), 3.0);
-  n.reset();  // the clock went back: the next one is taken whatever its stamp
-  n.offer(0.5, {0.5, 0, 0});
-  EXPECT_DOUBLE_EQ(n.stamp(), 0.5);
-  EXPECT_DOUBLE_EQ(n.pose().x, 0.5);
+  EXPECT_DOUBLE_EQ(n.pose().x, 3.0);
 }

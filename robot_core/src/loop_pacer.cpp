@@ -6,19 +6,19 @@
 namespace robot_core {
 
 double LoopPacer::tokensAt(double t) const {
-  return std::min(kBurst, tokens_ + (t - last_) / min_interval_);
+  return std::min(kBurst, tokens_ + (t - ran_at_) / min_interval_);
 }
 
 double LoopPacer::next() const {
   if (!started_) return -std::numeric_limits<double>::infinity();
-  if (woken_) return last_ + std::max(0.0, 1.0 - tokens_) * min_interval_;  // as soon as a token is there
+  if (woken_) return ran_at_ + std::max(0.0, 1.0 - tokens_) * min_interval_;  // as soon as a token is there
   return last_ + period_ * (patient_ ? 1.0 + kPatience : 1.0);
 }
 
 void LoopPacer::ran(double now) {
   if (!started_) {
     started_ = true;
-    last_ = now;
+    last_ = ran_at_ = now;
     tokens_ = kBurst - 1.0;
     woken_ = false;
     return;
@@ -31,7 +31,10 @@ void LoopPacer::ran(double now) {
   // A tick the patience postponed still counts in its own slot: the schedule does not move.
   const double at = on_schedule ? (patient_ ? last_ + period_ : scheduled) : now;
   patient_ = woken_ && at - last_ < 1.2 * period_;
-  tokens_ = std::max(-1.0, tokensAt(at) - 1.0);
+  // The token is spent when the run really happened: an early tick counted in its slot must
+  // not keep an input that comes before that slot waiting for it.
+  tokens_ = std::max(-1.0, tokensAt(now) - 1.0);
+  ran_at_ = now;
   last_ = at;
   woken_ = false;
 }

@@ -215,3 +215,18 @@ TEST(LoopPacer, WithoutInputsACeilingAboveTheRateKeepsThePeriod) {
   const auto runs = simulate(p, {}, 2.0);
   EXPECT_NEAR(static_cast<double>(runs.size()), 2.0 / 0.02 + 1, 1.0);
 }
+
+TEST(LoopPacer, AnInputJustAfterAnEarlyTickRunsAtOnce) {
+  // The loop's schedule follows a stream at phase 7 ms while its timer ticks at phase 0: the
+  // tick of 0.060 runs 7 ms before its slot (0.067) and counts there; a command at 0.061 must
+  // not wait for that slot (it has a token).
+  LoopPacer p(0.02, 0.01);
+  p.ran(0.007);
+  p.ran(0.027);
+  p.ran(0.047);
+  ASSERT_TRUE(p.dueForTick(0.060));
+  p.ran(0.060);
+  EXPECT_NEAR(p.next(), 0.087, 1e-12);  // the schedule has not moved
+  p.wake();
+  EXPECT_TRUE(p.due(0.061));
+}

@@ -220,7 +220,8 @@ class ReflexBench(object):
     def braking_trace(self, t_place, threshold):
         """The driver's avoidance: its first braking command after t_place (the speed falls by at
         least half the deceleration limit over the time since the command before: steering
-        jitter is not braking), the front reading it acted on (the last one under `threshold`
+        jitter is not braking; receive times stand for the driver's ROS time: real-time factor
+        1), the front reading it acted on (the last one under `threshold`
         before it), and back to that reading's frame; forward to the drive's wheel command and
         the motor board frame that carries it. None if missing."""
         with self.cmd_vel.lock:
@@ -232,23 +233,28 @@ class ReflexBench(object):
                 break
         if brain is None:
             return None
-        acted = [self.hal[n].last_before(brain) for n in FRONT]
-        acted = [a for a in acted if a and a[0] >= t_place and a[1].range < threshold]
+        acted = [self.hal[n].last_before(brain, lambda m: m.range < threshold) for n in FRONT]
+        acted = [a for a in acted if a and a[0] >= t_place]
         if not acted:
             return None
         t_hal, reading = max(acted, key=lambda a: a[0])
-        # The HCL message of the same board exchange (same stamp), and the frame that carried it.
-        hcl = [self.hcl[n].last_before(t_hal, lambda m: m.header.stamp == reading.header.stamp) for n in FRONT]
+        # The HCL message of the same board exchange (same stamp; it may reach this process
+        # after the HAL's, on another connection), and the frame that carried it.
+        hcl = [self.hcl[n].first_after(t_place, lambda m: m.header.stamp == reading.header.stamp) for n in FRONT]
         hcl = [h for h in hcl if h]
         if not hcl:
             return None
         t_hcl = min(h[0] for h in hcl)
         pdo = self.sniffer.last_before(self.ranger_cob, t_hcl)
-        cmd = self.motor_cmd.first_after(brain)
+        # The drive's first wheel command lower than before the braking command.
+        before = self.motor_cmd.last_before(brain)
+        cmd = self.motor_cmd.first_after(brain, lambda m: before is not None and abs(m.value) < abs(before[1].value))
         if not pdo or not cmd:
             return None
+        # The frame carrying it: the first with that left PWM after the reading's frame (not
+        # after this process received the command: the frame may have gone out before that).
         left = cmd[1].value
-        stop = self.sniffer.first_after(self.motor_cob, cmd[0], lambda d: struct.unpack_from('<h', d, 0)[0] == left)
+        stop = self.sniffer.first_after(self.motor_cob, pdo[0], lambda d: struct.unpack_from('<h', d, 0)[0] == left)
         if not stop:
             return None
         return {'pdo': pdo[0], 'hcl': t_hcl, 'hal': t_hal, 'brain': brain, 'command': cmd[0], 'bus': stop[0]}

@@ -57,7 +57,8 @@ class LoopPacer {
   bool woken_ = false;
   bool patient_ = false;  // the last run was woken within 1.2 periods of the one before
   double last_ = 0.0;    // when the last run counts as having happened (its schedule, if on time)
-  double tokens_ = 0.0;  // tokens left just after the last run
+  double ran_at_ = 0.0;  // when it really happened
+  double tokens_ = 0.0;  // tokens left just after it
   double tokensAt(double t) const;
 };
 

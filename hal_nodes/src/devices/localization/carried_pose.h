@@ -27,8 +27,6 @@ class NewestOdometry {
     stamp_ = stamp;
     pose_ = pose;
   }
-  // Forget it: the clock went back (a replayed bag restarted).
-  void reset() { have_ = false; }
   bool have() const { return have_; }
   double stamp() const { return stamp_; }
   const mcl::Pose2D& pose() const { return pose_; }

@@ -124,11 +124,15 @@ class LocalizationDevice : public Device {
       std::lock_guard<std::mutex> lk(filter_mutex_);
       // Everything up to `latency` before the newest odometry has arrived; without odometry
       // for a while, measurements are processed anyway after a longer wait.
+      // One snapshot: the odometry the estimate is carried to is the one the watermark counts
+      // from, so what is published at a stamp depends on nothing that arrived after it.
       double watermark, newest_any;
+      NewestOdometry newest;
       {
         std::lock_guard<std::mutex> lk2(stamp_mutex_);
         watermark = newest_odom_ - latency_;
         newest_any = newest_any_;
+        newest = newest_odom_pose_;
       }
       const double now = ros::Time::now().toSec();
       if (now - 1.0 > watermark && newest_any > 0.0) watermark = std::max(watermark, std::min(newest_any, now - 1.0));
@@ -145,16 +149,11 @@ class LocalizationDevice : public Device {
       // later measurement (odometry stalled on a loaded HCL would otherwise date an old
       // position as new). Nothing new to date: nothing published.
       if (have_odom_) {
-        NewestOdometry newest;
-        {
-          std::lock_guard<std::mutex> lk2(stamp_mutex_);
-          if (newest_odom_pose_.have() && newest_odom_pose_.stamp() < odom_stamp_) newest_odom_pose_.reset();  // the clock went back
-          newest = newest_odom_pose_;
-        }
-        const double stamp = newest.have() ? newest.stamp() : odom_stamp_;
-        const Pose2D pose = newest.have() ? carryForward(filter_->estimate().pose, odom_pose_, newest.pose())
-                                          : filter_->estimate().pose;
-        if (stamp != published_stamp_) {  // != : a replayed bag may restart the clock
+        const bool carry = newest.have() && newest.stamp() >= odom_stamp_;
+        const double stamp = carry ? newest.stamp() : odom_stamp_;
+        const Pose2D pose = carry ? carryForward(filter_->estimate().pose, odom_pose_, newest.pose())
+                                  : filter_->estimate().pose;
+        if (stamp != published_stamp_) {
           published_stamp_ = stamp;
           outputs_->publish(stamp, pose, *filter_, odom_stamp_, &odom_pose_, beacons_.get(), last_step_);
         }

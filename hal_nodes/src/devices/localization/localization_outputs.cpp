@@ -78,7 +78,7 @@ void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const m
     tf_.sendTransform(t);
   }
 
-  if (std::abs(filter_stamp - last_cloud_) >= cloud_period_) {  // abs: a replayed bag may restart the clock
+  if (filter_stamp - last_cloud_ >= cloud_period_) {
     last_cloud_ = filter_stamp;
     if (cloud_pub_.getNumSubscribers() > 0) {
       const auto& s = filter.particles();
