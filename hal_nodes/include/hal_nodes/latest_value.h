@@ -65,9 +65,14 @@ class LatestValueCache {
     return received_;
   }
 
+  // The message's header stamp; null when its type has no header.
+  static const ros::Time* headerStamp(const M& m) {
+    return ros::message_traits::TimeStamp<M>::pointer(const_cast<M&>(m));
+  }
+
  private:
   static ros::Time stampOf(const M& m, const ros::Time& received_at) {
-    const ros::Time* stamp = ros::message_traits::TimeStamp<M>::pointer(const_cast<M&>(m));
+    const ros::Time* stamp = headerStamp(m);
     return (stamp && !stamp->isZero()) ? *stamp : received_at;
   }
 
@@ -92,7 +97,7 @@ class LatestValue : public InputStatus {
     sub_ = nh.subscribe<M>(topic, 1, [this](const ConstPtr& m) {
       cache_.store(m, ros::Time::now());
       if (on_arrival_) {
-        const ros::Time* own = ros::message_traits::TimeStamp<M>::pointer(const_cast<M&>(*m));
+        const ros::Time* own = LatestValueCache<M>::headerStamp(*m);
         on_arrival_(own ? *own : ros::Time());
       }
     }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());

@@ -4,9 +4,7 @@
 //   can_dump <socketcan://IFACE | udp://127.0.0.1:PORT> [seconds]
 #include <sys/time.h>
 
-#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -33,10 +31,8 @@ int main(int argc, char** argv) {
         gettimeofday(&tv, nullptr);
         t = static_cast<double>(tv.tv_sec) + 1e-6 * static_cast<double>(tv.tv_usec);
       }
-      const long sec = static_cast<long>(t);
-      const long usec = std::min(999999L, static_cast<long>(std::lround((t - static_cast<double>(sec)) * 1e6)));
       std::string text = hcl_drivers::transport::toString(f);
-      std::printf("(%ld.%06ld) %s %s\n", sec, usec, argv[1], text.c_str());
+      std::printf("(%.6f) %s %s\n", t, argv[1], text.c_str());
       std::fflush(stdout);  // a reader follows the bus live, not in 4 KB blocks
     }
     std::fflush(stdout);

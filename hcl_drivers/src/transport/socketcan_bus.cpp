@@ -38,8 +38,7 @@ int openRaw(int ifindex, const std::string& iface) {
   sockaddr_can addr{};
   addr.can_family = AF_CAN;
   addr.can_ifindex = ifindex;
-  const int on = 1;  // kernel receive timestamps (CanFrame::received)
-  ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
+  enableReceiveTimestamps(fd);  // CanFrame::received
   if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
     const int err = errno;
     ::close(fd);
@@ -106,20 +105,14 @@ class SocketCanChannel : public CanChannel {
       return false;
     }
     can_frame k{};
-    iovec iov{&k, sizeof(k)};
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
-    msghdr msg{};
-    msg.msg_iov = &iov;
-    msg.msg_iovlen = 1;
-    msg.msg_control = control;
-    msg.msg_controllen = sizeof(control);
-    const ssize_t n = ::recvmsg(fd_, &msg, 0);
+    double received = 0.0;
+    const ssize_t n = receiveStamped(fd_, &k, sizeof(k), 0, &received);
     if (n != static_cast<ssize_t>(sizeof(k))) {
       last_error_ = n < 0 ? std::string("recvmsg: ") + std::strerror(errno) : "short read";
       return false;
     }
     f = fromKernel(k);
-    f.received = receiveTimestamp(msg);
+    f.received = received;
     bus_->noteRx();
     return true;
   }

@@ -76,8 +76,7 @@ int makeSocket() {
   if (fd < 0) throw std::system_error(errno, std::generic_category(), "socket(AF_INET, SOCK_DGRAM)");
   int buf = 1 << 20;
   ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &buf, sizeof(buf));
-  const int on = 1;  // kernel receive timestamps (CanFrame::received)
-  ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
+  enableReceiveTimestamps(fd);  // CanFrame::received
   return fd;
 }
 }  // namespace
@@ -305,18 +304,11 @@ void UdpCanBus::run() {
     // Drain everything queued before going back to the timers.
     while (true) {
       sockaddr_in from{};
-      iovec iov{buf, sizeof(buf)};
-      alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
-      msghdr msg{};
-      msg.msg_name = &from;
-      msg.msg_namelen = sizeof(from);
-      msg.msg_iov = &iov;
-      msg.msg_iovlen = 1;
-      msg.msg_control = control;
-      msg.msg_controllen = sizeof(control);
-      const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT);
+      double received = 0.0;
+      const ssize_t n = receiveStamped(fd_, buf, sizeof(buf), MSG_DONTWAIT, &received,
+                                       reinterpret_cast<sockaddr*>(&from), sizeof(from));
       if (n < 0) break;  // EAGAIN, or ECONNREFUSED from a vanished hub
-      handleDatagram(buf, static_cast<std::size_t>(n), from, receiveTimestamp(msg));
+      handleDatagram(buf, static_cast<std::size_t>(n), from, received);
     }
   }
 }
