@@ -220,7 +220,11 @@ def follow_match(args, proc, launch_log):
             % (referee.year, referee.colour_ours or '?', referee.score_ours, referee.score_opponent))
     except Exception as e:  # the report reads the score from the bag as well
         log('no referee score on /sim/match: %s' % e)
-    time.sleep(2.0)  # let the recorder write the last messages
+    # Let the recorder take 1.5 simulated seconds past the end (the report checks the effectors 1 s
+    # after it), bounded in wall time should the clock stop.
+    until, deadline = rospy.get_time() + 1.5, time.monotonic() + 5.0
+    while rospy.get_time() < until and time.monotonic() < deadline:
+        time.sleep(0.05)
     return True
 
 

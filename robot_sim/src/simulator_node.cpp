@@ -23,11 +23,14 @@
 //   brain/match_status (smart_brain/MatchStatus): a brain started without the cord (its ~start
 //   service) pulls the simulated cord, so the referee's match starts with the brain's.
 // Services: /sim/inject_fault, /sim/teleport, /sim/place_opponent, /sim/set_switch, /sim/pause
-//   (std_srvs/SetBool).
+//   (std_srvs/SetBool), /sim/set_real_time_factor (robot_sim/SetRealTimeFactor: a new pace for the
+//   running simulation, e.g. real time for a test's wall-clock case in a test run as fast as the
+//   machine goes).
 #include <robot_sim/ActiveFaults.h>
 #include <robot_sim/DebugMotorCommand.h>
 #include <robot_sim/InjectFault.h>
 #include <robot_sim/PlaceOpponent.h>
+#include <robot_sim/SetRealTimeFactor.h>
 #include <robot_sim/SetSwitch.h>
 #include <robot_sim/Teleport.h>
 #include <ros/ros.h>
@@ -38,6 +41,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <memory>
 #include <thread>
@@ -101,6 +105,7 @@ class Simulator {
     services_.push_back(nh_.advertiseService("sim/place_opponent", &Simulator::onPlaceOpponent, this));
     services_.push_back(nh_.advertiseService("sim/set_switch", &Simulator::onSetSwitch, this));
     services_.push_back(nh_.advertiseService("sim/pause", &Simulator::onPause, this));
+    services_.push_back(nh_.advertiseService("sim/set_real_time_factor", &Simulator::onSetRealTimeFactor, this));
     publishClock(0.0);
     publishFaults();
 
@@ -121,7 +126,7 @@ class Simulator {
     }
     running_ = true;
     thread_ = std::thread([this] { run(); });
-    ROS_INFO("simulator: seed %d, real-time factor %g%s, dt %g s, %zu game elements", seed_, rtf_,
+    ROS_INFO("simulator: seed %d, real-time factor %g%s, dt %g s, %zu game elements", seed_, rtf_.load(),
              paused_ ? " (paused)" : "", config_.dt, config_.table.elements.size());
     return true;
   }
@@ -145,8 +150,9 @@ class Simulator {
         fail("seed", "must be an integer >= 0");
       seed_ = static_cast<int>(seed);
     }
-    rtf_ = number("real_time_factor", 1.0);
-    if (!(rtf_ >= 0.0) || !std::isfinite(rtf_)) fail("real_time_factor", "must be >= 0 (0: as fast as possible)");
+    const double rtf = number("real_time_factor", 1.0);
+    if (!validFactor(rtf)) fail("real_time_factor", "must be >= 0 (0: as fast as possible)");
+    rtf_ = rtf;
     XmlRpc::XmlRpcValue paused;
     if (pnh_.getParam("paused", paused)) {
       if (paused.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail("paused", "must be true or false");
@@ -267,9 +273,19 @@ class Simulator {
     auto last_names_check = Clock::now();
     const auto clock_gap = std::chrono::duration<double>(1.0 / clock_max_rate_);
     MachinePace machine;
-    double pace = rtf_ > 0.0 ? rtf_ : machine.factor();
+    RobotKeepingUp keeping_up;
+    double rtf = rtf_;  // the requested factor this loop paces at (the service may change rtf_)
+    double pace = rtf > 0.0 ? rtf : machine.factor();
     auto last_pace = Clock::now();
     while (running_ && ros::ok()) {
+      if (rtf_ != rtf) {  // a new pace counts from here: simulated time goes on where it is
+        rtf = rtf_;
+        pace = rtf > 0.0 ? rtf : machine.factor();
+        anchor_wall = Clock::now();
+        anchor_sim = world_->time();
+        report_sim = anchor_sim;
+        last_report = anchor_wall;
+      }
       if (paused_) {
         publishClock(world_->time());
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -311,17 +327,20 @@ class Simulator {
       }
       if (now - last_report > std::chrono::seconds(10)) {
         const double achieved = (t - report_sim) / std::chrono::duration<double>(now - last_report).count();
-        if (rtf_ > 0.0 && achieved < 0.9 * rtf_)
-          ROS_WARN("simulator: achieved real-time factor %.2f of %.2f requested", achieved, rtf_);
-        else if (rtf_ == 0.0)
-          ROS_INFO("simulator: as fast as the machine goes: real-time factor %.2f (machine %.0f %% busy)", achieved,
-                   100.0 * machine.lastBusy());
+        if (rtf > 0.0 && achieved < 0.9 * rtf)
+          ROS_WARN("simulator: achieved real-time factor %.2f of %.2f requested", achieved, rtf);
+        else if (rtf == 0.0)
+          ROS_INFO("simulator: as fast as the machine goes: real-time factor %.2f (machine %.0f %% busy, boards "
+                   "polled at %.0f of %.0f requests per simulated second)",
+                   achieved, 100.0 * machine.lastBusy(), keeping_up.rate(), keeping_up.reference());
         last_report = now;
         report_sim = t;
       }
-      if (rtf_ == 0.0 && now - last_pace > std::chrono::seconds(1)) {
+      if (rtf == 0.0 && now - last_pace > std::chrono::seconds(1)) {
         last_pace = now;
-        if (machine.update()) {
+        const bool lagging = keeping_up.lagging(emulatorPolls(), t);
+        // Without emulators (a world-only test) there is no request rate to wait for.
+        if (machine.update(lagging, !host_ || keeping_up.mayRise())) {
           pace = machine.factor();
           anchor_wall = now;  // the new factor counts from here
           anchor_sim = t;
@@ -339,6 +358,13 @@ class Simulator {
         }
       }
     }
+  }
+
+  unsigned long emulatorPolls() const {
+    unsigned long n = 0;
+    if (host_)
+      for (const auto& kv : host_->all()) n += kv.second->polls();
+    return n;
   }
 
   void publishClock(double t) {
@@ -477,6 +503,24 @@ class Simulator {
     return true;
   }
 
+  static bool validFactor(double f) { return f >= 0.0 && std::isfinite(f); }
+
+  bool onSetRealTimeFactor(SetRealTimeFactor::Request& req, SetRealTimeFactor::Response& res) {
+    if (!validFactor(req.real_time_factor)) {
+      res.ok = false;
+      res.message = "real_time_factor must be >= 0 (0: as fast as the machine goes), got " +
+                    std::to_string(req.real_time_factor);
+      return true;
+    }
+    const double before = rtf_.exchange(req.real_time_factor);
+    res.ok = true;
+    char text[128];
+    std::snprintf(text, sizeof text, "real-time factor %g (was %g)", req.real_time_factor, before);
+    res.message = text;
+    ROS_INFO("simulator: %s at t=%.3f", text, world_->time());
+    return true;
+  }
+
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
     paused_ = req.data;
     res.success = true;
@@ -490,7 +534,7 @@ class Simulator {
   std::unique_ptr<FirmwareHost> host_;
   FaultSchedule faults_;
   int seed_ = 1;
-  double rtf_ = 1.0;
+  std::atomic<double> rtf_{1.0};  // requested: set at start and by ~set_real_time_factor
   double clock_max_rate_ = 1000.0;
   bool firmware_enabled_ = true;
   std::atomic<bool> paused_{false};

@@ -17,7 +17,6 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 import unittest
 
 import rosbag
@@ -26,6 +25,7 @@ from robot_core.geometry import yaw_of
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
+from robot_sim.srv import SetSwitch
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 MATCH_SECONDS = 10.0
@@ -85,14 +85,16 @@ class ReplayLocalizationTest(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp(prefix='product_mcl_bag_')
         cls.bag = os.path.join(cls.tmp, 'match.bag')
         cls.log = open(os.path.join(cls.tmp, 'launch.log'), 'w')
+        # Recorded at real time: the replays take the bag's simulated length, and start-up (wall
+        # time) would add simulated seconds at a higher factor.
         launch = roslaunch(os.path.join(ROOT, 'launch', 'eurobot2009.launch'), 'record:=true', 'bag:=' + cls.bag,
                            log=cls.log)
         try:
             rospy.wait_for_message('/mcl/pose', PoseWithCovarianceStamped, timeout=60.0)
-            time.sleep(3.0)
-            subprocess.run(['rosservice', 'call', '/sim/set_switch', '{name: start_cord, closed: false}'],
-                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=20)
-            time.sleep(MATCH_SECONDS)
+            rospy.wait_for_service('/sim/set_switch', 20.0)
+            rospy.sleep(3.0)
+            rospy.ServiceProxy('/sim/set_switch', SetSwitch)(name='start_cord', closed=False)
+            rospy.sleep(MATCH_SECONDS)
         finally:
             stop(launch)
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The simulator's interface (launch/sim_world_services.test): /clock at the real-time factor,
 ground truth, markers (our robot's outline among them), elements, match and score, and the
-services to teleport the robot, place the opponent, flip switches and inject faults (now,
-scripted, and from ~faults)."""
+services to teleport the robot, place the opponent, flip switches, inject faults (now,
+scripted, and from ~faults) and change the real-time factor of the running simulation."""
 import math
 import os
 import signal
@@ -16,7 +16,7 @@ import rostest
 from geometry_msgs.msg import Pose2D
 from nav_msgs.msg import Odometry
 from robot_sim.msg import ActiveFaults, DebugMotorCommand, GameElements, MatchState
-from robot_sim.srv import InjectFault, PlaceOpponent, SetSwitch, Teleport
+from robot_sim.srv import InjectFault, PlaceOpponent, SetRealTimeFactor, SetSwitch, Teleport
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Int32
 from visualization_msgs.msg import MarkerArray
@@ -73,6 +73,23 @@ class SimServicesTest(unittest.TestCase):
         m = self.truth.wait()
         self.assertEqual(m.header.frame_id, 'map')
         self.assertEqual(m.child_frame_id, 'base_link')
+
+    def test_1b_the_real_time_factor_changes_while_running(self):
+        set_factor = rospy.ServiceProxy('/sim/set_real_time_factor', SetRealTimeFactor)
+        bad = set_factor(-1.0)
+        self.assertFalse(bad.ok)
+        self.assertIn('must be >= 0', bad.message)
+        try:
+            before = sim_now(self.clock)
+            self.assertTrue(set_factor(1.5).ok)
+            time.sleep(0.5)
+            t0, w0 = sim_now(self.clock), time.monotonic()
+            self.assertGreaterEqual(t0, before)  # simulated time goes on from where it was
+            time.sleep(2.0)
+            t1, w1 = sim_now(self.clock), time.monotonic()
+            self.assertAlmostEqual((t1 - t0) / (w1 - w0), 1.5, delta=0.3)
+        finally:
+            self.assertTrue(set_factor(RTF).ok)
 
     def test_2_markers_elements_and_scripted_fault(self):
         markers = self.markers.wait()

@@ -1,7 +1,9 @@
 """Shared helpers of the Python rostests: bounded waits, topic recorders (every message, or the
 newest one), percentiles, device diagnostics, and the effector switch with its service
 connections opened in advance (so a measured deactivation latency starts when the request is
-sent, not at the master lookup of the service)."""
+sent, not at the master lookup of the service), and real time for a test's wall-clock case in a
+simulation run as fast as the machine goes."""
+import contextlib
 import math
 import threading
 import time
@@ -176,3 +178,24 @@ class EffectorSwitch(object):
 
     def activate(self):
         return self._activate()
+
+
+@contextlib.contextmanager
+def real_time(simulator='/sim'):
+    """Inside the block the simulation runs at real time (factor 1), then goes back to the
+    factor it was launched with (its ~real_time_factor). For the cases that bound a latency in
+    wall milliseconds in a test otherwise run as fast as the machine goes: at a higher factor
+    the processing a latency measures takes the same wall time but more simulated time, and the
+    machine is kept 80-90 % busy."""
+    from robot_sim.srv import SetRealTimeFactor
+    service = simulator + '/set_real_time_factor'
+    rospy.wait_for_service(service, 10.0)
+    set_factor = rospy.ServiceProxy(service, SetRealTimeFactor)
+    launched = float(rospy.get_param(simulator + '/real_time_factor', 1.0))
+    r = set_factor(1.0)
+    assert r.ok, r.message
+    time.sleep(1.0)  # the machine settles from the fast pace before anything is timed
+    try:
+        yield
+    finally:
+        set_factor(launched)

@@ -10,6 +10,7 @@
 #include <robot_core/parameters.h>
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <atomic>
 #include <string>
 
@@ -19,6 +20,17 @@ namespace robot_sim {
 using namespace robot_core::parameter_reader;
 
 class World;  // the simulated world (robot_sim/world), absent for world-less emulators
+
+// The board's own clock [s]: ROS time, so in a simulation the simulator's /clock (a heartbeat
+// period, a watchdog or a frame period is the same in simulated seconds at any real-time
+// factor, as the drivers measure them), and the wall clock where emulators run alone.
+inline double firmwareNow() { return ros::Time::now().toSec(); }
+
+// How long [s, wall] a firmware loop may block before it looks at its clock again when its next
+// event is `left` seconds away on that clock: a simulated clock may run faster than the wall.
+inline double firmwareWallSlice(double left, double slice = 0.005) {
+  return left <= 0.0 ? 0.0 : (ros::Time::isSimTime() ? std::min(left, slice) : left);
+}
 
 struct FirmwareContext {
   ros::NodeHandle nh;   // global namespace: publish truth under /sim/...
@@ -37,6 +49,10 @@ class Firmware {
   // Stop answering and close the channel.
   virtual void stop() = 0;
 
+  // Requests from the board's driver answered so far (CAN RTRs, I2C reads): the robot's work
+  // rate, which "as fast as the machine goes" watches (machine_pace.h) to never outrun it.
+  unsigned long polls() const { return polls_; }
+
   // Fault injection: a silent board keeps running but never answers.
   void setSilent(bool silent) { silent_ = silent; }
   bool silent() const { return silent_; }
@@ -51,8 +67,12 @@ class Firmware {
     return true;
   }
 
+ protected:
+  void countPoll() { ++polls_; }
+
  private:
   std::atomic<bool> silent_{false};
+  std::atomic<unsigned long> polls_{0};
 };
 
 }  // namespace robot_sim

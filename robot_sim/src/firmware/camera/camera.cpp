@@ -118,13 +118,17 @@ class CameraFirmware : public Firmware {
   }
 
   void run() {
-    const auto period = std::chrono::duration<double>(1.0 / fps_);
-    auto next = std::chrono::steady_clock::now();
+    // Frames at fps_ on the camera's clock (firmwareNow: simulated time in a simulation), so the
+    // vision sees as many frames per simulated second at any real-time factor.
+    const double period = 1.0 / fps_;
+    double next = firmwareNow();
     std::vector<uint8_t> jpg;
     uint32_t served = 0;
     while (running_) {
-      next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
-      std::this_thread::sleep_until(next);
+      next += period;
+      for (double left = next - firmwareNow(); running_ && left > 0.0; left = next - firmwareNow())
+        std::this_thread::sleep_for(std::chrono::duration<double>(firmwareWallSlice(left)));
+      if (firmwareNow() - next > period) next = firmwareNow();  // fell behind: skip, never burst
       accept();
       if (clients_.empty() || silent()) continue;
       cv::imencode(".jpg", renderScene(snapshot(), model_), jpg, {cv::IMWRITE_JPEG_QUALITY, quality_});

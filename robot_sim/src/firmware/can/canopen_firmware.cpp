@@ -26,9 +26,7 @@ const char* nmtName(uint8_t s) {
 
 CanopenFirmware::~CanopenFirmware() { stop(); }
 
-double CanopenFirmware::now() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double CanopenFirmware::now() const { return firmwareNow(); }
 
 void CanopenFirmware::start(FirmwareContext& ctx) {
   name_ = ctx.name;
@@ -139,17 +137,21 @@ void CanopenFirmware::run() {
     nmt_state_ = kPreOperational;
     send(CanFrame::make(0x700 + node_id_, {kBootUp}));
   }
-  double next_tick = now();
+  // Frames are answered as they come; every 5 ms of wall time the firmware's timers (heartbeat,
+  // watchdog, SDO deadline, the motion model) run on the board's clock (firmwareNow).
+  using Wall = std::chrono::steady_clock;
+  auto next_tick = Wall::now();
   CanFrame f;
   while (running_) {
-    const double wait = next_tick - now();
+    const double wait = std::chrono::duration<double>(next_tick - Wall::now()).count();
     if (channel_->receive(f, wait > 0 ? wait : 0.0)) {
       std::lock_guard<std::mutex> lk(mutex_);
       if (!silent() && !bus_off_) handle(f);
     }
+    const auto wall = Wall::now();
+    if (wall < next_tick) continue;
+    next_tick = wall + std::chrono::milliseconds(5);
     const double t = now();
-    if (t < next_tick) continue;
-    next_tick = t + 0.005;
     std::lock_guard<std::mutex> lk(mutex_);
     if (reset_pending_.exchange(false)) powerCycle();
     if (malformed_pending_.exchange(false)) {
@@ -203,6 +205,7 @@ void CanopenFirmware::handle(const CanFrame& f) {
     CanFrame out;
     if (onRtr(f.id, out)) {
       ++rtr_;
+      countPoll();
       send(out);
     }
     return;

@@ -80,7 +80,7 @@ class CanopenFirmware : public Firmware {
   bool operational() const { return nmt_state_ == 0x05; }
   World& world() { return *world_; }
   std::mutex& mutex() { return mutex_; }
-  double now() const;
+  double now() const;  // the board's clock (firmwareNow): simulated time in a simulation
   // Little-endian helpers (the board's own, not the driver's).
   static void put16(CanFrame& f, int at, uint16_t v) {
     f.data[at] = static_cast<uint8_t>(v);

@@ -83,7 +83,7 @@ class HBMotorFirmware : public RegisterChip {
         int8_t d = static_cast<int8_t>(value);
         if (d == -128) d = -127;
         setDuty(d);
-        last_command_ = std::chrono::steady_clock::now();
+        last_command_ = firmwareNow();
         status_ &= ~0x04;
         break;
       }
@@ -118,17 +118,17 @@ class HBMotorFirmware : public RegisterChip {
 
   // The firmware's main loop: watchdog, and the world-less motor model.
   void run() {
-    auto last = std::chrono::steady_clock::now();
+    double last = firmwareNow();  // the board's clock: simulated time in a simulation
     int n = 0;
     while (running_) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      const auto now = std::chrono::steady_clock::now();
+      const double now = firmwareNow();
       std_msgs::Int32 truth;
       {
         std::lock_guard<std::mutex> lk(mutex_);
-        const double dt = std::chrono::duration<double>(now - last).count();
+        const double dt = std::max(0.0, now - last);
         if (!world_) model_ticks_ += duty_ / 127.0 * ticks_per_second_ * dt;
-        if (watchdog_ != 0 && duty_ != 0 && now - last_command_ > std::chrono::milliseconds(10 * watchdog_)) {
+        if (watchdog_ != 0 && duty_ != 0 && now - last_command_ > 0.01 * watchdog_) {
           setDuty(0);
           status_ |= 0x04;
         }
@@ -148,7 +148,7 @@ class HBMotorFirmware : public RegisterChip {
   int64_t offset_ = 0;
   double model_ticks_ = 0.0;
   uint32_t latched_ = 0;
-  std::chrono::steady_clock::time_point last_command_;
+  double last_command_ = 0.0;  // on the board's clock
   std::atomic<bool> running_{false};
   std::thread thread_;
   ros::Publisher truth_pub_;

@@ -28,6 +28,7 @@ class RegisterChip : public Firmware, public I2cSlave {
     }
   }
   void i2cRead(uint8_t* data, std::size_t n) override {
+    countPoll();
     for (std::size_t i = 0; i < n; ++i) {
       data[i] = readRegister(pointer_, i == 0);
       pointer_ = nextPointer(pointer_);
