@@ -4,8 +4,8 @@ HCL, HAL with odometry, drive, rangers and localization): goto across the table,
 six checkpoints, cancel latency, the opponent on the route. Ground truth (/sim/*) is read by
 this test only. Parameters: ~robot, ~motor_topic, ~opponent_sensing, ~collision_distance.
 Registered for both robots (test/launch/driver_sim_eurobot2009.test, driver_sim_logion.test),
-launched as fast as the machine goes: goals are judged in simulated time and space; the cancel
-case, whose bounds are wall milliseconds, runs at real time (test_support.real_time)."""
+at real time; the cancel case, whose bounds are wall milliseconds, also holds real time when a
+launch runs faster (test_support.real_time)."""
 import math
 import sys
 import time
