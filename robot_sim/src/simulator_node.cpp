@@ -151,7 +151,7 @@ class Simulator {
       seed_ = static_cast<int>(seed);
     }
     const double rtf = number("real_time_factor", 1.0);
-    if (!validFactor(rtf)) fail("real_time_factor", "must be >= 0 (0: as fast as possible)");
+    if (!validFactor(rtf)) fail("real_time_factor", kFactorRule);
     rtf_ = rtf;
     XmlRpc::XmlRpcValue paused;
     if (pnh_.getParam("paused", paused)) {
@@ -503,13 +503,13 @@ class Simulator {
     return true;
   }
 
+  static constexpr const char* kFactorRule = "must be >= 0 (0: as fast as the machine goes)";
   static bool validFactor(double f) { return f >= 0.0 && std::isfinite(f); }
 
   bool onSetRealTimeFactor(SetRealTimeFactor::Request& req, SetRealTimeFactor::Response& res) {
     if (!validFactor(req.real_time_factor)) {
       res.ok = false;
-      res.message = "real_time_factor must be >= 0 (0: as fast as the machine goes), got " +
-                    std::to_string(req.real_time_factor);
+      res.message = std::string("real_time_factor ") + kFactorRule + ", got " + std::to_string(req.real_time_factor);
       return true;
     }
     const double before = rtf_.exchange(req.real_time_factor);
