@@ -7,6 +7,11 @@
 #                               matches headless one at a time (opponent: random walk, route,
 #                               blocker in turn), a row per match, report/matches/ (bags, reports,
 #                               summary PNG); exits non-zero when a match broke an invariant
+#   make chaos [ROBOT=eurobot2009] [N=10] [SEED=1] [FACTOR=0]  install, build, run N seeded
+#                               matches with faults injected mid-match (every fault class: buses,
+#                               world, processes), check the invariants, a row per match,
+#                               report/chaos/; closing line `matches N faults F violations V`,
+#                               exits non-zero on any violation
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
@@ -22,7 +27,7 @@ export ROS_LANG_DISABLE := genlisp:geneus:gennodejs
 ROBOT ?= eurobot2009
 STRATEGY ?=
 SEED ?= 1
-N ?= 20
+N ?=
 FACTOR ?= 0
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 JOBS ?= 2
@@ -69,8 +74,14 @@ run: build
 # N seeded matches (seeds SEED, SEED+1, ...) at real_time_factor FACTOR (0: as fast as the machine goes).
 .PHONY: matches
 matches: build
-	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(N) --seed $(SEED) --factor $(FACTOR) \
+	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
 	  $(if $(STRATEGY),--strategy $(STRATEGY))
+
+# N seeded matches with a fault schedule each (scripts/run_chaos.py, scripts/chaos_faults.py).
+.PHONY: chaos
+chaos: build
+	$(SETUP) && python3 $(ROOT)/scripts/run_chaos.py $(ROBOT) --n $(or $(N),10) --seed $(SEED) \
+	  --factor $(FACTOR)
 
 test: deps
 	@bash $(ROOT)/scripts/can_vm_prepare.sh --background

@@ -2,7 +2,7 @@
 """`make run`: one simulated match of a robot, headless, from start cord to report.
 
     scripts/run_match.py ROBOT [--out DIR] [--strategy NAME] [--seed N] [--real-time-factor F]
-                         [--overlay PARAMS.yaml]
+                         [--overlay PARAMS.yaml] [--faults SCHEDULE.yaml]
 
 Starts launch/ROBOT.launch (simulator, HCL, HAL, brain) with record:=true, waits until the
 brain says the robot is ready (every product node runs, every board and device OK: the "ready:
@@ -11,7 +11,10 @@ shows the cord inserted (HAL human interface, /hal/hmi/input), pulls the start c
 (the simulated cord switch, read by the boards, the HMI device and the brain), follows the
 match clock, stops everything once the brain reports the match ended, and writes the match
 report. Prints where the bag and the report are and the referee's score. Robots without a
-match (skeleton) just run.
+match (skeleton) just run. With --faults, the schedule's faults are injected into the match at
+their match times (scripts/fault_injector.py: `make chaos`), and what was injected when is
+written to OUT/faults.yaml. A recorder that was killed and respawned left parts of the bag:
+they are joined into the one bag (scripts/bag_parts.py) before the report.
 
 A robot whose launch has `can_bus`, `camera_port` or `sim_dir` arguments gets channels of its
 own (free ports, a fresh directory): two simulations on one CAN bus answer each other's drivers
@@ -31,6 +34,7 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, 'scripts'))
 
 
 def log(msg):
@@ -47,6 +51,7 @@ def main():
     ap.add_argument('--overlay', default=None,
                     help='YAML of parameters loaded after the config (the launch argument overlay), '
                          'e.g. another opponent: sim: {world: {opponent: {...}}}')
+    ap.add_argument('--faults', default=None, help='YAML list of faults to inject (scripts/fault_injector.py)')
     ap.add_argument('--startup-timeout', type=float, default=120.0, help='[s, wall] to reach waiting_for_start')
     ap.add_argument('--match-timeout', type=float, default=400.0, help='[s, wall] for the match to end')
     args = ap.parse_args()
@@ -63,7 +68,8 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     bag = os.path.join(args.out, args.robot + '_match.bag')
     png = os.path.join(args.out, args.robot + '_match.png')
-    for stale in (bag, bag + '.active'):
+    import bag_parts
+    for stale in [bag, bag + '.active'] + bag_parts.parts(bag):
         if os.path.exists(stale):
             os.remove(stale)
     cmd = ['roslaunch', launch, 'record:=true', 'bag:=' + bag, 'seed:=' + args.seed,
@@ -100,6 +106,9 @@ def main():
         if sim_dir:
             shutil.rmtree(sim_dir, ignore_errors=True)
     log('launch output: %s' % launch_log.name)
+    joined = bag_parts.join(bag)
+    if joined:
+        log('the recorder was restarted during the match: %s' % joined)
     if not os.path.exists(bag):
         sys.exit('run: no bag was written (%s); see the launch output' % bag)
     log('writing the match report')
@@ -144,6 +153,11 @@ def follow_match(args, proc, launch_log):
             log('not ready: the launch ended before the match: %s' % why)
             return False
         try:
+            # Not before the launch has set /use_sim_time: rospy reads it once, at init, and
+            # would otherwise keep the wall clock (the fault schedule is in simulated time).
+            import rosgraph
+            if not rosgraph.Master('/run_match').hasParam('/use_sim_time'):
+                raise RuntimeError('the launch has not set its parameters yet')
             rospy.init_node('run_match', anonymous=True, disable_signals=True)
             break
         except Exception:
@@ -197,6 +211,18 @@ def follow_match(args, proc, launch_log):
         from std_srvs.srv import Trigger
         rospy.wait_for_service('/brain/start', timeout=10)
         rospy.ServiceProxy('/brain/start', Trigger)()
+    injector = None
+    if args.faults:
+        import yaml
+        from fault_injector import FaultInjector
+        while state() == 'waiting_for_start':
+            time.sleep(0.01)
+        m = status['msg']
+        with open(args.faults) as f:
+            faults = yaml.safe_load(f) or []
+        injector = FaultInjector(faults, os.path.join(args.out, 'faults.yaml'), m.header.stamp.to_sec() - m.elapsed)
+        injector.start()
+        log('%d fault(s) scheduled (%s)' % (len(faults), args.faults))
     deadline = time.monotonic() + args.match_timeout
     last = -10.0
     while state() != 'ended':
@@ -213,6 +239,10 @@ def follow_match(args, proc, launch_log):
             log('match %s: %.0f s elapsed, %.0f s left' % (m.state, m.elapsed, m.remaining))
         time.sleep(0.5)
     log('match ended; effectors deactivated: %s' % status['msg'].effectors_deactivated)
+    if injector:
+        injector.wait(30.0)
+        log('faults: %s' % ', '.join('%s %s at %.1f s: %s' % (d['kind'], d.get('target', ''), d['start'] - injector.t0,
+                                                              d['outcome']) for d in injector.done))
     try:
         from robot_sim.msg import MatchState
         referee = rospy.wait_for_message('/sim/match', MatchState, timeout=5.0)

@@ -167,7 +167,7 @@ def write_overlay(folder, params):
 
 # ---- one match ---------------------------------------------------------------------------------
 
-def run_one(robot, seed, factor, folder, overlay, strategy, index, n):
+def run_one(robot, seed, factor, folder, overlay, strategy, index, n, extra=()):
     """scripts/run_match.py on a ROS master of its own (each run starts and stops its master; two
     in a row on one port, or on a test's master, would share parameters and latched topics).
     Its `run:` lines are shown, its whole output kept in the folder. Returns its exit code."""
@@ -176,6 +176,7 @@ def run_one(robot, seed, factor, folder, overlay, strategy, index, n):
            '--real-time-factor', '%g' % factor, '--overlay', overlay]
     if strategy:
         cmd += ['--strategy', strategy]
+    cmd += list(extra)
     with open(os.path.join(folder, 'run_match.out'), 'w') as out:
         proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                 universal_newlines=True, errors='replace')

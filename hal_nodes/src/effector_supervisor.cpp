@@ -4,7 +4,7 @@
 
 namespace hal_nodes {
 
-EffectorSupervisor::EffectorSupervisor(ros::NodeHandle nh) {
+EffectorSupervisor::EffectorSupervisor(ros::NodeHandle nh) : nh_(nh) {
   state_pub_ = nh.advertise<std_msgs::Bool>("/effectors/deactivated", 1, true);
   std_msgs::Bool initial;
   initial.data = false;
@@ -13,6 +13,7 @@ EffectorSupervisor::EffectorSupervisor(ros::NodeHandle nh) {
       "/effectors/deactivate", [this](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) { return set(true, res); });
   activate_srv_ = nh.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
       "/effectors/activate", [this](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) { return set(false, res); });
+  match_end_sub_ = nh.subscribe("/effectors/match_end", 1, &EffectorSupervisor::onMatchEnd, this);
 }
 
 bool EffectorSupervisor::set(bool deactivated, std_srvs::Trigger::Response& res) {
@@ -23,6 +24,23 @@ bool EffectorSupervisor::set(bool deactivated, std_srvs::Trigger::Response& res)
   res.message = deactivated ? "every effector deactivated" : "effectors active again";
   ROS_WARN("%s", res.message.c_str());
   return true;
+}
+
+void EffectorSupervisor::onMatchEnd(const std_msgs::Time& msg) {
+  match_end_timer_.stop();
+  if (msg.data.isZero()) return;  // disarmed
+  const ros::Duration left = msg.data - ros::Time::now();
+  ROS_INFO("effectors: the match ends at %.3f (in %.1f s): deactivating then if nobody has", msg.data.toSec(),
+           left.toSec());
+  // A one-shot timer on ROS time: the simulated match end at any real-time factor.
+  match_end_timer_ = nh_.createTimer(
+      std::max(left, ros::Duration(0.001)),
+      [this](const ros::TimerEvent&) {
+        std_srvs::Trigger::Response res;
+        ROS_WARN("effectors: match end");
+        set(true, res);
+      },
+      true);
 }
 
 }  // namespace hal_nodes

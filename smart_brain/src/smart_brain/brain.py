@@ -12,6 +12,13 @@ Parameters (config/<robot>.yaml, block `brain:`):
   ~match/start_topic   the HAL human interface (hal_nodes/HumanInput, `started`) (default /hal/hmi/input)
   ~match/funny_action  run the strategy's funny_action() after the match end (default false)
   ~match/deactivate_service  (default /effectors/deactivate, std_srvs/Trigger, from hal_node)
+  ~match/end_topic     (default /effectors/match_end, std_msgs/Time, latched): the match's end in
+                       ROS time, published at the start; hal_node deactivates the effectors then
+                       by itself should the brain be dead or stuck at the end
+  ~match/resume        written by the brain at the start: {started_at, clock, strategy}. A brain
+                       respawned mid-match finds it and resumes the match (no start signal, the
+                       elapsed time kept, the strategy from its first state). The launch clears
+                       it (clear_params): a new launch starts a new match.
   ~ready/nodes, ~ready/optional  what "ready" needs (smart_brain/readiness.py)
   ~ready/grace         [s, wall] start-up: "not ready" is logged at INFO this long, then WARN (default 15)
   ~ready/display       the HMI display's text input (std_msgs/String, default /hal/hmi/text):
@@ -110,6 +117,9 @@ class Brain(object):
         self.start_topic = rospy.get_param('~match/start_topic', '/hal/hmi/input')
         self.funny = choice_param('~match/funny_action', False, (True, False))
         self.deactivate_service = rospy.get_param('~match/deactivate_service', '/effectors/deactivate')
+        self.saved_match = rospy.get_param('~match/resume', None) if self.timed else None
+        if self.saved_match and self.saved_match.get('strategy', self.strategy.name) != self.strategy.name:
+            self.strategy = strategies.create(str(self.saved_match['strategy']))  # switched before the restart
         rospy.loginfo('brain: strategy %s: %s', self.strategy.name, self.strategy.description)
         wait_for_devices(self.strategy, self.device_timeout)
 
@@ -135,6 +145,10 @@ class Brain(object):
         self.ready, self.readiness_text = False, 'not ready: not checked yet'
         self.ready_grace = positive_param('~ready/grace', 15.0)
         self._display_pub = rospy.Publisher(rospy.get_param('~ready/display', '/hal/hmi/text'), String, queue_size=1)
+        from std_msgs.msg import Time
+        self._Time = Time
+        self._match_end_pub = rospy.Publisher(rospy.get_param('~match/end_topic', '/effectors/match_end'), Time,
+                                              queue_size=1, latch=True)
         self._String = String
         self.timer = None
         if self.timed:
@@ -145,6 +159,8 @@ class Brain(object):
             if self.start_mode == 'cord':
                 from hal_nodes.msg import HumanInput
                 self._start_sub = rospy.Subscriber(self.start_topic, HumanInput, self._on_hmi, queue_size=1)
+        if self.timer is not None and self.saved_match:
+            self._resume_match(self.saved_match)
         rospy.Service('~start', Trigger, self._srv_start)
         rospy.Service('~switch_strategy', SwitchStrategy, self._srv_switch)
         rospy.Service('~start_action', StartAction, self._srv_start_action)
@@ -204,9 +220,42 @@ class Brain(object):
             return TriggerResponse(True, 'match started')
         return TriggerResponse(False, 'the match had already started')
 
+    def _clock_kind(self):
+        return 'ros' if clock.simulated() else 'monotonic'
+
+    def _resume_match(self, saved):
+        """A brain respawned mid-match: the match goes on from when it started."""
+        if clock.simulated():  # the first /clock: before it ROS time reads 0
+            deadline = time.monotonic() + 5.0
+            while rospy.get_time() <= 0.0 and time.monotonic() < deadline and not rospy.is_shutdown():
+                time.sleep(0.01)
+        try:
+            started_at, kind = float(saved['started_at']), saved['clock']
+        except (KeyError, TypeError, ValueError):
+            rospy.logwarn('brain: ~match/resume %r is not a saved match: ignored', saved)
+            return
+        now = clock.now()
+        if kind != self._clock_kind() or started_at > now:
+            rospy.logwarn('brain: ~match/resume is from another clock (%s at %.1f, now %.1f): a new match', kind,
+                          started_at, now)
+            return
+        rospy.logwarn('brain: restarted during a match: resuming it %.1f s after its start (%.1f s left), '
+                      'strategy %s from its first state', now - started_at, max(0.0, self.duration - (now - started_at)),
+                      self.strategy.name)
+        self.timer.start(at=started_at)
+
     def _on_match_start(self):
         rospy.loginfo('brain: match started (%.0f s)', self.duration)
-        self.publish_status()
+        self._save_match()
+        # hal_node's backstop: it ends the match at this time should the brain not.
+        end = rospy.Time.now() + rospy.Duration(self.timer.remaining())
+        self._match_end_pub.publish(self._Time(end))
+        if self.timer.remaining() > 0.0:  # resumed after the end: the end follows at once, not "running"
+            self.publish_status()
+
+    def _save_match(self):
+        rospy.set_param('~match/resume', {'started_at': self.timer.started_at, 'clock': self._clock_kind(),
+                                          'strategy': self.strategy.name})
 
     # ---- match end: the guard above every strategy ----
     def _on_match_end(self):
@@ -285,6 +334,8 @@ class Brain(object):
         old.finalize()
         self.strategy = new
         new.initialize()
+        if self.timer is not None and self.timer.started:
+            self._save_match()
         self.publish_status()
 
     # ---- BrainSlave ----

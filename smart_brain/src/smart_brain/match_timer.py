@@ -39,14 +39,22 @@ class MatchTimer(object):
             self._latest = t
         return self._latest
 
-    def start(self):
-        """The start signal (idempotent): returns False if the match had already started."""
+    def start(self, at=None):
+        """The start signal (idempotent): returns False if the match had already started.
+        `at`: when the match started on this clock (a brain resuming a match after a restart);
+        default now."""
         with self._cond:
             if self._started_at is not None:
                 return False
-            self._started_at = self._now()
+            now = self._now()
+            self._started_at = now if at is None else min(float(at), now)
             self._cond.notify_all()
         return True
+
+    @property
+    def started_at(self):
+        """When the match started on this clock (None before the start signal)."""
+        return self._started_at
 
     def end_now(self):
         """End the match at once (emergency or shutdown)."""

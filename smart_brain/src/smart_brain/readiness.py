@@ -13,45 +13,22 @@ Parameters (the brain's, config/<robot>.yaml `brain: ready:`):
   ~ready/nodes     product nodes that must run (default [/hcl, /hal])
   ~ready/optional  status names (substrings) whose level does not hold the start (default [])
 """
-import socket
 import threading
-import xmlrpc.client
 
 import rosgraph
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rosgraph_msgs.msg import Log
+from robot_core.node_probe import probe
 
 LEVELS = {DiagnosticStatus.OK: 'OK', DiagnosticStatus.WARN: 'WARN', DiagnosticStatus.ERROR: 'ERROR',
           DiagnosticStatus.STALE: 'STALE'}
 GROUPS = ('/Boards/', '/Devices/')
 
 
-class _TimeoutTransport(xmlrpc.client.Transport):
-    """XML-RPC with a reply window: a node killed -9 stays registered but never answers."""
-
-    def __init__(self, timeout):
-        super().__init__()
-        self._timeout = timeout
-
-    def make_connection(self, host):
-        conn = super().make_connection(host)
-        conn.timeout = self._timeout
-        return conn
-
-
 def node_alive(master, name, timeout=0.5):
-    """True if `name` is registered with the master and answers an XML-RPC getPid within
-    `timeout` wall seconds (as `rosnode ping` does)."""
-    try:
-        uri = master.lookupNode(name)
-    except (rosgraph.MasterError, socket.error):
-        return False
-    try:
-        code, _msg, _pid = xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout)).getPid('/brain')
-        return code == 1
-    except (socket.error, xmlrpc.client.Error, OSError):
-        return False
+    """True if `name` is registered with the master and answers within `timeout` wall seconds."""
+    return probe(master, name, timeout, '/brain')[0] is not None
 
 
 def is_required(status):

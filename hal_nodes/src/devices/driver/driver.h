@@ -167,6 +167,7 @@ class Driver : public Effector {
   void setTimeout(double t) { timeout_ = t > 0.0 ? ros::Time::now() + ros::Duration(t) : ros::Time(); }
 
   bool refuseIfInactive();
+  bool refuseUntilLocalized();
   void startGoto(const GotoGoal& g);
   void startStraight(const GoStraightGoal& g);
   void startRotate(const RotateByGoal& g);
@@ -251,6 +252,7 @@ class Driver : public Effector {
 
   std::shared_ptr<LatestValue<geometry_msgs::PoseWithCovarianceStamped>> pose_;
   std::shared_ptr<LatestValue<LocalizationQuality>> quality_;
+  bool localized_once_ = false;  // localization sound at a goal's start since the driver started
   std::shared_ptr<LatestValue<nav_msgs::Odometry>> odom_;
   std::vector<std::shared_ptr<LatestValue<sensor_msgs::Range>>> rangers_;
   std::shared_ptr<LatestValue<geometry_msgs::PointStamped>> opponent_;

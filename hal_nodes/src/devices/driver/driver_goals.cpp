@@ -150,9 +150,25 @@ bool Driver::refuseIfInactive() {
   return true;
 }
 
+// A goal in the map frame needs localization to have been sound once since this driver
+// started: a HAL respawned mid-match resumes from a saved pose, and must not drive on it before
+// the filter has confirmed it. Later faults hold a goal instead (hold()).
+bool Driver::refuseUntilLocalized() {
+  if (localized_once_) return false;
+  Pose2D pose;
+  uint8_t code;
+  std::string why;
+  if (!mapPose(&pose, &code, &why)) {
+    finish(code, "goal refused until localization is sound: " + why, false);
+    return true;
+  }
+  localized_once_ = true;
+  return false;
+}
+
 void Driver::startGoto(const GotoGoal& g) {
   takeOver(Mode::GOTO);
-  if (refuseIfInactive()) return;
+  if (refuseIfInactive() || refuseUntilLocalized()) return;
   if (!finite({g.x, g.y, g.angle, g.position_tolerance, g.angle_tolerance, g.max_speed, g.timeout}) ||
       g.position_tolerance < 0 || g.angle_tolerance < 0 || g.max_speed < 0 || g.timeout < 0)
     return finish(INVALID_GOAL, "goal fields must be finite and tolerances, max_speed, timeout >= 0", false);
@@ -187,7 +203,7 @@ void Driver::startRotate(const RotateByGoal& g) {
 
 void Driver::startPath(const FollowPathGoal& g) {
   takeOver(Mode::PATH);
-  if (refuseIfInactive()) return;
+  if (refuseIfInactive() || refuseUntilLocalized()) return;
   if (g.checkpoints.empty()) return finish(INVALID_GOAL, "no checkpoints", false);
   if (!finite({g.tolerance, g.max_speed, g.timeout}) || g.tolerance < 0 || g.max_speed < 0 || g.timeout < 0)
     return finish(INVALID_GOAL, "tolerance, max_speed, timeout must be finite and >= 0", false);

@@ -155,6 +155,10 @@ LocalizationConfig readLocalizationConfig(const ros::NodeHandle& pnh) {
   if (!c.initial_pose.empty() && c.initial_pose.size() != 3) p.check("initial_pose", "must be [x, y, theta]");
   readInRange(p, "initial_std_xy", &c.initial_std_xy, 0.0, 10.0);
   readInRange(p, "initial_std_theta", &c.initial_std_theta, 0.0, 10.0);
+  // amcl's save_pose_rate: 0.5 Hz by default, 0 never.
+  const double save_pose_rate = p.optionalDouble("save_pose_rate", 0.5);
+  p.requireInRange("save_pose_rate", save_pose_rate, 0.0, 100.0);
+  c.save_pose_period = save_pose_rate > 0.0 ? 1.0 / save_pose_rate : 0.0;
   return c;
 }
 

@@ -27,6 +27,9 @@
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
 //   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
+//   ~save_pose_rate [0.5 Hz, simulated time in simulation; 0: never]: the estimate, while not lost,
+//             is written back to ~initial_pose, ~initial_std_xy and ~initial_std_theta (amcl's
+//             save_pose_rate), so a respawned HAL resumes where the robot was
 //   ~odom_topic [/odom]  ~pairs/<name>/{topic, reliability}: encoder pairs (else /odom alone)
 //   ~motion/{trans_per_trans, trans_per_rot, lateral_per_trans, rot_per_trans, rot_per_rot,
 //            slip_probability, slip_trans, slip_rot, slip_accel [5 m/s^2, 0: no detection], slip_margin [0.001 m]}
@@ -92,16 +95,21 @@ class LocalizationDevice : public Device {
 
   void init(DeviceContext& ctx) override {
     nh_ = ctx.nh;
+    pnh_ = ctx.pnh;
     name_ = ctx.name;
     const LocalizationConfig c = localization::readLocalizationConfig(ctx.pnh);
+    save_pose_period_ = c.save_pose_period;
     latency_ = c.latency;
     map_frame_ = c.map_frame;
     table_ = std::make_shared<mcl::TableModel>(c.table_length, c.table_width, c.robot_radius, c.obstacles);
     filter_ = std::make_unique<mcl::Filter>(c.filter, table_);
     addOdometry(c);
     addCheckingInputs(c);
-    if (c.initial_pose.size() == 3)
+    if (c.initial_pose.size() == 3) {
       filter_->setPose({c.initial_pose[0], c.initial_pose[1], c.initial_pose[2]}, c.initial_std_xy, c.initial_std_theta);
+      ROS_INFO("%s: starting at (%.3f, %.3f, %.3f) +- %.3f m, %.3f rad (~initial_pose)", name_.c_str(), c.initial_pose[0],
+               c.initial_pose[1], c.initial_pose[2], c.initial_std_xy, c.initial_std_theta);
+    }
     else
       filter_->globalLocalization();
 
@@ -162,6 +170,7 @@ class LocalizationDevice : public Device {
         outputs_->publish(last_step_, filter_->estimate().pose, *filter_, last_step_, nullptr, beacons_.get(), last_step_);
       }
     }
+    savePoseIfDue();
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (steps > 0) {
       cost_ms_ = ms / static_cast<double>(steps);
@@ -193,6 +202,30 @@ class LocalizationDevice : public Device {
   }
 
  private:
+  // amcl's save_pose_rate: the estimate as the start of a respawned HAL. Not while lost: a
+  // restart then begins lost as well, from the last pose that was sound.
+  void savePoseIfDue() {
+    if (save_pose_period_ <= 0.0) return;
+    const double now = ros::Time::now().toSec();
+    if (now - last_saved_ < save_pose_period_ && now >= last_saved_) return;
+    Pose2D pose;
+    double var_xy, var_theta;
+    {
+      std::lock_guard<std::mutex> lk(filter_mutex_);
+      const auto& e = filter_->estimate();
+      if (!have_odom_ || e.lost) return;
+      pose = e.pose;
+      var_xy = std::max(e.cov[0], e.cov[4]);
+      var_theta = e.cov[8];
+    }
+    last_saved_ = now;
+    // Never narrower than 5 cm / 0.1 rad: between the last save and a respawned HAL the robot drives
+    // on until its wheels stop (the boards' command watchdogs): a few centimetres at match speed.
+    pnh_.setParam("initial_pose", std::vector<double>{pose.x, pose.y, pose.theta});
+    pnh_.setParam("initial_std_xy", std::max(0.05, std::sqrt(std::max(0.0, var_xy))));
+    pnh_.setParam("initial_std_theta", std::max(0.1, std::sqrt(std::max(0.0, var_theta))));
+  }
+
   // The advancing input: /odom (primary, it triggers a step), or encoder pairs under it.
   void addOdometry(const LocalizationConfig& c) {
     use_pairs_ = !c.pairs.empty();
@@ -364,6 +397,9 @@ class LocalizationDevice : public Device {
   std::vector<ros::Subscriber> subs_;
   ros::Subscriber initial_sub_;
   ros::ServiceServer global_srv_;
+  ros::NodeHandle pnh_;
+  double save_pose_period_ = 0.0;
+  double last_saved_ = -1e9;
   std::unique_ptr<LocalizationOutputs> outputs_;
 };
 

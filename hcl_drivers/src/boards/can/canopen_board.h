@@ -108,6 +108,8 @@ class CanopenBoard : public Board {
   // Bus-off events already shown on /diagnostics. A bus-off the controller recovers from within
   // a second falls between two 1 Hz reports; the next report still says it happened.
   unsigned long bus_off_reported_ = 0;
+  uint32_t boot_ups_reported_ = 0, malformed_reported_ = 0;  // at the last /diagnostics report
+  unsigned long reports_ = 0;  // boot-ups before the first report are the power-on, not a reset
   std::mutex status_mutex_;  // node counters copied for diagnostics/state
   CanNodeStatus status_copy_;
 };

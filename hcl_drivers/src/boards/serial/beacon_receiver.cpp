@@ -11,6 +11,11 @@
 //   ~beacons          number of beacon ids reported in ~state (default 3, 1..10); messages for
 //                     other ids are counted and dropped
 //   ~silence_timeout  [s] no valid message for this long = not answering (default 1.0)
+//   ~beacon_timeout   [s] one beacon unheard for this long while others are heard: ERROR naming
+//                     it (default 0.6: each beacon is heard every ~0.3 s at most on the table)
+// /diagnostics: ERROR while a beacon is silent, and for one report after bad bytes on the line
+// (garbage, checksum errors, truncated messages): noise on the serial line is named, not just
+// counted.
 // Topics: ~delta (hcl_drivers/BeaconDelta, every message, stamp = receive time of its last byte),
 //         ~state (hcl_drivers/BeaconReceiverState, latched, newest delta per beacon + counters).
 #include <hcl_drivers/BeaconDelta.h>
@@ -43,6 +48,8 @@ class BeaconReceiver : public Board {
     requireInRange(ctx.pnh, "beacons", beacons, 1, 10);
     silence_timeout_ = optionalDouble(ctx.pnh, "silence_timeout", 1.0);
     requirePositive(ctx.pnh, "silence_timeout", silence_timeout_);
+    beacon_timeout_ = optionalDouble(ctx.pnh, "beacon_timeout", 0.6);
+    requirePositive(ctx.pnh, "beacon_timeout", beacon_timeout_);
     state_.delta_us.assign(beacons, 0);
     state_.stamps.assign(beacons, ros::Time());
     port_ = std::make_unique<transport::SerialPort>(port, baud);
@@ -77,6 +84,31 @@ class BeaconReceiver : public Board {
     stat.add("checksum errors", stats_.checksum_errors);
     stat.add("malformed messages", stats_.malformed);
     stat.add("unknown beacon ids", unknown_ids_);
+    const uint64_t bad = stats_.garbage_bytes + stats_.checksum_errors + stats_.malformed;
+    if (bad > bad_reported_)
+      stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
+                         "bad input on %s since the last report: %llu garbage byte(s), %llu checksum error(s), "
+                         "%llu malformed message(s)",
+                         port_->path().c_str(), static_cast<unsigned long long>(stats_.garbage_bytes - reported_.garbage_bytes),
+                         static_cast<unsigned long long>(stats_.checksum_errors - reported_.checksum_errors),
+                         static_cast<unsigned long long>(stats_.malformed - reported_.malformed));
+    bad_reported_ = bad;
+    reported_ = stats_;
+    // One beacon silent while the receiver hears the others (all silent: the board itself is).
+    const ros::Time now = ros::Time::now();
+    if (!last_valid_.isZero() && (now - last_valid_).toSec() <= silence_timeout_) {
+      std::string silent;
+      for (std::size_t id = 0; id < state_.stamps.size(); ++id) {
+        const double age = state_.stamps[id].isZero() ? -1.0 : (now - state_.stamps[id]).toSec();
+        if (age <= beacon_timeout_) continue;
+        char one[48];
+        snprintf(one, sizeof one, "%s%zu for %.2f s", silent.empty() ? "" : ", ", id, age);
+        silent += one;
+      }
+      if (!silent.empty())
+        stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
+                           "beacon(s) silent while the others are heard: %s (hidden, or battery)", silent.c_str());
+    }
   }
 
  private:
@@ -159,6 +191,9 @@ class BeaconReceiver : public Board {
 
   std::unique_ptr<transport::SerialPort> port_;  // used by the reader thread only
   double silence_timeout_ = 1.0;
+  double beacon_timeout_ = 0.6;
+  uint64_t bad_reported_ = 0;   // garbage + checksum + malformed counted at the last report
+  beacon_protocol::Stats reported_;
   ros::Publisher delta_pub_, state_pub_;
   std::atomic<bool> running_{false};
   std::thread reader_;

@@ -10,6 +10,7 @@
 // (std_srvs/SetBool: false unplugs: the writer closes and the FIFO disappears; true plugs back).
 // Faults: "board_silent" = unplugged while active.
 #include <fcntl.h>
+#include <poll.h>
 #include <linux/joystick.h>
 #include <std_msgs/Int16MultiArray.h>
 #include <std_msgs/UInt8MultiArray.h>
@@ -152,7 +153,14 @@ class JoystickFirmware : public Firmware {
         fifo_present = true;
       }
       std::lock_guard<std::mutex> lk(mutex_);
-      if (fd_ >= 0) continue;
+      if (fd_ >= 0) {
+        // The reader gone (a driver that died or closed the device): POLLERR on the write end.
+        // Without this the next reader, a restarted driver, would wait for the init events the
+        // kernel sends on each open, since nothing fails before the next write.
+        pollfd p{fd_, POLLOUT, 0};
+        if (::poll(&p, 1, 0) > 0 && (p.revents & POLLERR)) closeWriterLocked();
+        continue;
+      }
       fd_ = ::open(path_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);  // ENXIO: no reader yet
       if (fd_ < 0) continue;
       for (std::size_t i = 0; i < buttons_.size() && fd_ >= 0; ++i)

@@ -1,0 +1,209 @@
+"""What a match with injected faults must still do (`make chaos`, scripts/run_chaos.py), judged
+from its bag and the injector's log (scripts/fault_injector.py: each fault's actual start and
+end, simulated time). Every check returns violations as (time [s of match], text).
+
+  no motor runs blind  a non-zero PWM on a motor board (the emulator's own state,
+                       /sim/<board>/firmware) only while the HAL commanded a non-zero speed
+                       (/hcl/<board>/motor/*/command) within the board's command timeout plus its
+                       watchdog, and never with the HCL dead for longer than the watchdog
+  the fault is named   /diagnostics: its status (chaos_faults.expected_status) at ERROR or STALE
+                       within NAMED_WITHIN of its start, back to OK within CLEARED_WITHIN of its end
+  nothing is lost      every periodic topic of the bag keeps coming for the whole match: no gap
+                       over max(GAP_MIN, GAP_PERIODS periods) except while its publisher, or the
+                       recorder, was dead (until it was back and started: RESTART_ALLOWANCE)
+  the match ends       the effectors are off EFFECTORS_GRACE after the match end, or hal_node is
+                       dead then (nothing is commanded)
+  the robot recovers   after a fault's end, /mcl/pose within RECOVERED_M of the truth again within
+                       RECOVER_WITHIN
+"""
+import bisect
+import collections
+import statistics
+
+from chaos_faults import expected_status
+from match_report import errors_against_truth
+
+NAMED_WITHIN = 1.0        # [s]
+CLEARED_WITHIN = 2.0      # [s]
+GAP_MIN, GAP_PERIODS = 1.0, 10.0
+RESTART_ALLOWANCE = 5.0   # [s] after a respawned node answers, until its topics flow again
+EFFECTORS_GRACE = 1.0     # [s]
+RECOVERED_M, RECOVER_WITHIN = 0.05, 5.0
+OK, ERROR = 0, 2
+
+RECORDER_BUFFER = 1.0     # [s] a recorder killed -9 loses the chunk it had not written yet
+
+#: Which process publishes a topic (first matching prefix and suffix); None: several, or the simulator.
+#: The HAL commands the boards on /hcl/<board>/...; the emulated camera serves frames to the HCL.
+OWNERS = (('/hcl/', '/command', '/hal'), ('/hcl/', '/pulse_us', '/hal'), ('/hcl/', '/target', '/hal'),
+          ('/hcl/', '/lcd', '/hal'), ('/hcl/', '', '/hcl'), ('/sim/camera/', '', '/hcl'), ('/hal/', '', '/hal'),
+          ('/mcl/', '', '/hal'), ('/odom', '', '/hal'), ('/tf', '', '/hal'), ('/effectors/', '', '/hal'),
+          ('/brain/', '', '/brain'))
+#: Topics that carry events, not a stream: action feedback (only while a goal runs), velocity
+#: commands (only while driving), log lines, state machine introspection.
+EVENT_TOPICS = ('/feedback', '/cmd_vel', '/rosout', '/container_status', '/container_structure', '/injected')
+#: A board that is silent (or off its bus, or sending garbage) sends nothing: what is computed
+#: from it pauses with it. Not a loss: nothing was there to record.
+BUS_KINDS = ('board_silent', 'can_bus_off', 'serial_garbage', 'serial_truncate')
+#: A dead process also starves what is computed from it.
+DOWNSTREAM = {'/hcl': ('/hcl', '/hal'), '/hal': ('/hal', '/brain'), '/brain': ('/brain',), '/record': ()}
+
+
+def dead_windows(faults):
+    """{node: [(start, end)]}: when each killed or stalled process was not running."""
+    out = collections.defaultdict(list)
+    for f in faults:
+        if f['kind'] in ('kill', 'stall'):
+            out[f['target']].append((f['start'], f['end']))
+    return out
+
+
+def _inside(t, windows, before=0.0, after=0.0):
+    return any(a - before <= t <= b + after for a, b in windows)
+
+
+def no_motor_runs_blind(m, config, faults, t0):
+    out = []
+    hcl_dead = dead_windows(faults).get('/hcl', [])
+    for topic in m.find('/sim/', '/firmware'):
+        board = topic.split('/')[2]
+        block = config.get('hcl', {}).get(board, {})
+        samples = [(t.to_sec(), [v for n, v in zip(msg.names, msg.values) if n.startswith('pwm')])
+                   for _, msg, t in m.read(topic)]
+        samples = [(t, pwm) for t, pwm in samples if pwm]
+        if len(samples) < 2:
+            continue
+        period = statistics.median(b[0] - a[0] for a, b in zip(samples, samples[1:]))
+        watchdog = float(block.get('watchdog_ms', 0)) / 1000.0
+        window = float(block.get('command_timeout', 0.25)) + watchdog + period + 0.05
+        commands = sorted(t.to_sec() for c in m.find('/hcl/%s/motor/' % board, '/command')
+                          for _, msg, t in m.read(c) if msg.value != 0)
+        blind = []
+        for t, pwm in samples:
+            if not any(pwm):
+                continue
+            i = bisect.bisect_right(commands, t)
+            if i == 0 or t - commands[i - 1] > window:
+                blind.append((t, 'no non-zero command for %.2f s' % (t - commands[i - 1] if i else float('inf'))))
+            elif any(a <= t - (watchdog + period + 0.05) and t <= b for a, b in hcl_dead):
+                blind.append((t, 'the HCL dead for longer than the %.2f s watchdog' % watchdog))
+        if blind:
+            out.append((blind[0][0] - t0, 'motor blind: %s: non-zero PWM %d time(s), first: %s (window %.2f s)'
+                        % (board, len(blind), blind[0][1], window)))
+    return out
+
+
+def statuses(m):
+    """{status name: [(bag time, level, message)]} of /diagnostics."""
+    out = collections.defaultdict(list)
+    for _, msg, t in m.read('/diagnostics'):
+        for s in msg.status:
+            out[s.name].append((t.to_sec(), s.level, s.message))
+    return out
+
+
+def faults_named(m, faults, t0, series=None):
+    out = []
+    series = series if series is not None else statuses(m)
+    recorder_dead = dead_windows(faults).get('/record', [])
+    for f in faults:
+        name = expected_status(f)
+        if name is None or f['outcome'].startswith(('REFUSED', 'FAILED')):
+            continue
+        what = '%s %s' % (f['kind'], f.get('target', ''))
+        if _inside(f['start'], recorder_dead, after=NAMED_WITHIN) or _inside(f['end'], recorder_dead, after=CLEARED_WITHIN):
+            continue  # the recorder was down: the bag cannot tell
+        points = series.get(name, [])
+        named = [t for t, level, _ in points if f['start'] <= t <= f['start'] + NAMED_WITHIN and level >= ERROR]
+        if not named:
+            seen = [(t - f['start'], level, msg) for t, level, msg in points
+                    if f['start'] <= t <= f['start'] + NAMED_WITHIN]
+            out.append((f['start'] - t0, '%s not named on "%s" at ERROR/STALE within %.0f s (there: %s)'
+                        % (what, name, NAMED_WITHIN, sorted({(lv, msg[:60]) for _, lv, msg in seen}) or 'nothing')))
+            continue
+        cleared = [t for t, level, _ in points if t >= max(f['end'], named[0]) and level == OK]
+        if not cleared or cleared[0] > f['end'] + CLEARED_WITHIN:
+            late = ('%.2f s after its end' % (cleared[0] - f['end'])) if cleared else 'never'
+            out.append((f['end'] - t0, '%s: "%s" not back to OK within %.0f s of the fault\'s end (%s)'
+                        % (what, name, CLEARED_WITHIN, late)))
+    return out
+
+
+def owner(topic):
+    for prefix, suffix, node in OWNERS:
+        if topic.startswith(prefix) and topic.endswith(suffix):
+            return node
+    return None
+
+
+def quiet_board_topics(f, config):
+    """Topic fragments of what a bus fault silences: its board (the whole CAN bus for bus-off),
+    and what the HAL computes from the boards."""
+    if f['kind'] not in BUS_KINDS:
+        return ()
+    derived = ('/hal/', '/mcl/', '/odom', '/tf')  # the HAL computes from the boards
+    if f['kind'] == 'can_bus_off':
+        return derived + tuple('/%s/' % n for n, b in config.get('hcl', {}).items()
+                               if isinstance(b, dict) and 'node_id' in b)
+    if f['kind'].startswith('serial_') or f.get('target') == 'beacons':
+        return derived + ('/beacons/',)
+    return derived + ('/%s/' % f['target'],)
+
+
+def nothing_lost(m, faults, start, end, t0, config):
+    out = []
+    dead = dead_windows(faults)
+    quiet = [(quiet_board_topics(f, config), f['start'], f['end']) for f in faults]
+    excused_for = collections.defaultdict(list)  # node -> windows its topics may pause
+    for node, windows in dead.items():
+        for affected in DOWNSTREAM.get(node, (node,)):
+            excused_for[affected] += windows
+    everything = [(a - RECORDER_BUFFER, b) for a, b in dead.get('/record', [])]
+    for topic in sorted(m.topics):
+        if topic.endswith(EVENT_TOPICS):
+            continue
+        times = [t.to_sec() for _, _, t in m.bag.read_messages(topics=[topic]) if start <= t.to_sec() <= end]
+        if len(times) < 20:
+            continue  # event topics (goals, results, score events): no period to keep
+        period = statistics.median(b - a for a, b in zip(times, times[1:]))
+        if period > 0.5:
+            continue
+        allowed = max(GAP_MIN, GAP_PERIODS * period)
+        excused = excused_for.get(owner(topic), []) + everything + \
+            [(a, b) for fragments, a, b in quiet if any(p in topic for p in fragments)]
+        for a, b in zip([start] + times, times + [end]):
+            if b - a <= allowed:
+                continue
+            if any(wa - allowed <= a and b <= we + RESTART_ALLOWANCE for wa, we in excused):
+                continue
+            out.append((a - t0, 'lost: %s silent for %.2f s (allowed %.2f s)' % (topic, b - a, allowed)))
+            break
+    return out
+
+
+def match_ends(m, faults, end, t0, effectors_off_delay):
+    if end is None:
+        return [(0.0, 'the match never ended')]
+    if _inside(end, dead_windows(faults).get('/hal', []), after=EFFECTORS_GRACE):
+        return []  # hal_node dead at the end: no effector is commanded; it comes back deactivated
+    if effectors_off_delay(m, end) is None:
+        return [(end - t0, 'the effectors were still on %.0f s after the match end' % EFFECTORS_GRACE)]
+    return []
+
+
+def robot_recovers(m, faults, end, t0):
+    out = []
+    errors = errors_against_truth(m.poses('/mcl/pose'), m.poses('/sim/ground_truth'))
+    times = [t for t, _, _ in errors]
+    for f in faults:
+        if f['outcome'].startswith(('REFUSED', 'FAILED')) or end is None or f['end'] + RECOVER_WITHIN > end:
+            continue
+        i = bisect.bisect_left(times, f['end'])
+        back = next((t for t, e, _ in errors[i:] if e < RECOVERED_M), None)
+        if back is None or back > f['end'] + RECOVER_WITHIN:
+            worst = max((e for t, e, _ in errors[i:] if t <= f['end'] + RECOVER_WITHIN), default=float('nan'))
+            out.append((f['end'] - t0, 'not recovered: localization not within %.0f cm of the truth %.0f s after '
+                        '%s %s ended (%s; worst %.3f m)' % (100 * RECOVERED_M, RECOVER_WITHIN, f['kind'],
+                                                            f.get('target', ''), 'back %.1f s after' % (back - f['end'])
+                                                            if back else 'never', worst)))
+    return out

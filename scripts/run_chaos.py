@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+"""`make chaos`: simulated matches with faults injected while they run, and the invariants
+every robot must keep whatever breaks.
+
+    scripts/run_chaos.py ROBOT [--n 10] [--seed 1] [--factor 0] [--out DIR] [--schedule FILE]
+
+Match k (seed SEED + k; opponent random walk, route, blocker in turn, as `make matches`) is one
+scripts/run_match.py run on a ROS master of its own, with a fault schedule
+(scripts/chaos_faults.py): the fault classes the robot has (on its buses, in the world, in its
+processes) shuffled with the seed and dealt out over the matches, one every ~9 s at random
+times, so that N matches together cover every class. --schedule FILE replaces the draw with a
+fixed YAML list of schedules (one list of faults per match, used in turn). The invariants
+(scripts/chaos_invariants.py): no motor runs blind, each fault is named on /diagnostics, nothing
+is lost from the bag, the match still ends with the effectors off, the robot recovers its
+localization after each fault. Also: the match started and ended, and no process died that was
+not killed on purpose.
+
+A row per match (faults injected, violations), then every violation with its match time, and
+    matches N faults F violations V
+Exit code 1 on any violation. Every match keeps its folder DIR/ROBOT_seed<seed>/ (bag, match
+report PNG and text, faults.yaml: what was injected when, launch log); DIR/ROBOT_chaos.txt has
+the table.
+"""
+import argparse
+import os
+import sys
+import time
+
+import yaml
+
+SCRIPTS = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(SCRIPTS)
+sys.path.insert(0, SCRIPTS)
+import chaos_faults  # noqa: E402
+import chaos_invariants as inv  # noqa: E402
+import run_matches  # noqa: E402
+from match_report import Match  # noqa: E402
+
+
+def log(msg):
+    print('chaos: ' + msg, flush=True)
+
+
+def unexpected_deaths(folder, robot, faults):
+    """Processes that died without being killed on purpose (launch log)."""
+    killed = {f['target'].strip('/') for f in faults if f['kind'] == 'kill'}
+    deaths = run_matches.node_deaths(os.path.join(folder, robot + '_launch.log'))
+    return ['node %s died: %s' % (name, line) for name, line in deaths.items()
+            if name.split('[')[-1].rsplit('-', 1)[0] not in killed]
+
+
+def judge(folder, robot, config, rc):
+    """(faults injected, [(match time, violation)]) of one finished match."""
+    bag = os.path.join(folder, robot + '_match.bag')
+    log_path = os.path.join(folder, 'faults.yaml')
+    faults = []
+    if os.path.exists(log_path):
+        with open(log_path) as f:
+            faults = yaml.safe_load(f) or []
+    violations = [(0.0, v) for v in unexpected_deaths(folder, robot, faults)]
+    violations += [(f['start'], '%s %s was not injected: %s' % (f['kind'], f.get('target', ''), f['outcome']))
+                   for f in faults if f['outcome'].startswith(('REFUSED', 'FAILED')) or 'NOT back' in f['outcome']]
+    if not os.path.exists(bag):
+        return faults, violations + [(0.0, 'no bag (see %s)' % os.path.join(folder, 'run_match.out'))]
+    try:
+        m = Match(bag)
+    except Exception as e:
+        return faults, violations + [(0.0, 'the bag is not readable: %s' % e)]
+    start, _ = m.start_signal()
+    end = m.match_end()
+    if start is None:
+        return faults, violations + [(0.0, 'the match never started')]
+    violations = [(t - start if t else 0.0, v) for t, v in violations]
+    violations += inv.no_motor_runs_blind(m, config, faults, start)
+    violations += inv.faults_named(m, faults, start)
+    violations += inv.nothing_lost(m, faults, start, end if end is not None else m.end, start, config)
+    violations += inv.match_ends(m, faults, end, start, run_matches.effectors_off_delay)
+    violations += inv.robot_recovers(m, faults, end, start)
+    left = run_matches.off_table(m.poses('/sim/ground_truth'), config['table']['length'], config['table']['width'])
+    if left:
+        violations.append((left[0] - start, 'our robot left the table at (%.3f, %.3f)' % (left[1], left[2])))
+    m.bag.close()
+    if rc != 0 and not violations:
+        violations.append((0.0, 'run_match.py exited with code %d' % rc))
+    return faults, sorted(violations)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('robot')
+    ap.add_argument('--n', type=int, default=10)
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
+    ap.add_argument('--out', default=os.path.join(ROOT, 'report', 'chaos'))
+    ap.add_argument('--schedule', default=None, help='YAML: a list of fault lists, one per match, used in turn')
+    args = ap.parse_args()
+    if not os.path.exists(os.path.join(ROOT, 'launch', args.robot + '.launch')):
+        sys.exit('chaos: ROBOT=%s: no launch/%s.launch' % (args.robot, args.robot))
+    config = run_matches.robot_config(args.robot)
+    if 'opponent' not in config.get('sim', {}).get('world', {}):
+        sys.exit('chaos: %s has no simulated match (no sim/world/opponent in its config)' % args.robot)
+    duration = float(config.get('brain', {}).get('match', {}).get('duration', 90.0))
+    if args.schedule:
+        with open(args.schedule) as f:
+            fixed = yaml.safe_load(f)
+        if not (isinstance(fixed, list) and fixed and all(isinstance(s, list) for s in fixed)):
+            sys.exit('chaos: --schedule %s: must be a YAML list of fault lists (one per match)' % args.schedule)
+        schedules = [fixed[k % len(fixed)] for k in range(args.n)]
+    else:
+        schedules = chaos_faults.draw_schedules(config, args.n, args.seed, duration)
+    os.makedirs(args.out, exist_ok=True)
+    began = time.monotonic()
+    rows, lines = [], []
+    for k in range(args.n):
+        seed, kind = args.seed + k, run_matches.OPPONENTS[k % len(run_matches.OPPONENTS)]
+        folder = os.path.join(args.out, '%s_seed%d' % (args.robot, seed))
+        os.makedirs(folder, exist_ok=True)
+        opponent = run_matches.opponent_params(kind, config)
+        overlay = run_matches.write_overlay(folder, opponent)
+        schedule = os.path.join(folder, 'schedule.yaml')
+        with open(schedule, 'w') as f:
+            yaml.safe_dump(schedules[k], f, default_flow_style=None)
+        log('[%d/%d] seed %d, opponent %s, faults: %s' % (k + 1, args.n, seed, kind, ', '.join(
+            '%s %s at %.0f s' % (f['kind'], f.get('target', ''), f['at']) for f in schedules[k])))
+        t0 = time.monotonic()
+        rc = run_matches.run_one(args.robot, seed, args.factor, folder, overlay, None, k + 1, args.n,
+                                 extra=['--faults', schedule])
+        faults, violations = judge(folder, args.robot, run_matches.merged(
+            config, {'sim': {'world': {'opponent': opponent}}}), rc)
+        m_score = score(folder, args.robot)
+        rows.append((seed, kind, len(faults), m_score, len(violations), time.monotonic() - t0))
+        lines += ['violation: seed %d at %.1f s: %s' % (seed, t, v) for t, v in violations]
+        log('[%d/%d] seed %d: %d fault(s), %s' % (k + 1, args.n, seed, len(faults),
+                                                  '%d violation(s)' % len(violations) if violations else 'no violation'))
+        for t, v in violations:
+            log('  at %.1f s: %s' % (t, v))
+    table = ['seed opponent    faults ours  opp violations wall_s']
+    table += ['%4d %-11s %6d %4s %4s %10d %6.0f' % (s, kind, n, '-' if sc is None else sc[0], '-' if sc is None else sc[1],
+                                                   v, w) for s, kind, n, sc, v, w in rows]
+    total_faults, total_violations = sum(r[2] for r in rows), sum(r[4] for r in rows)
+    closing = 'matches %d faults %d violations %d' % (len(rows), total_faults, total_violations)
+    out = table + lines + ['wall %.0f s, factor %g, match folders in %s' % (time.monotonic() - began, args.factor, args.out),
+                           closing]
+    with open(os.path.join(args.out, '%s_chaos.txt' % args.robot), 'w') as f:
+        f.write('\n'.join(out) + '\n')
+    print('\n'.join(out), flush=True)
+    return 1 if total_violations else 0
+
+
+def score(folder, robot):
+    """(ours, opponent) of the referee's last /sim/match in the bag, or None."""
+    bag = os.path.join(folder, robot + '_match.bag')
+    if not os.path.exists(bag):
+        return None
+    try:
+        m = Match(bag)
+        _, _, series = m.score_series()
+        m.bag.close()
+        return (series[-1][1], series[-1][2]) if series else None
+    except Exception:
+        return None
+
+
+if __name__ == '__main__':
+    sys.exit(main())
