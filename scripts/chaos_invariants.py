@@ -39,9 +39,11 @@ OWNERS = (('/hcl/', '/command', '/hal'), ('/hcl/', '/pulse_us', '/hal'), ('/hcl/
           ('/hcl/', '/lcd', '/hal'), ('/hcl/', '', '/hcl'), ('/sim/camera/', '', '/hcl'), ('/hal/', '', '/hal'),
           ('/mcl/', '', '/hal'), ('/odom', '', '/hal'), ('/tf', '', '/hal'), ('/effectors/', '', '/hal'),
           ('/brain/', '', '/brain'))
-#: Topics that carry events, not a stream: action feedback (only while a goal runs), velocity
-#: commands (only while driving), log lines, state machine introspection.
-EVENT_TOPICS = ('/feedback', '/cmd_vel', '/rosout', '/container_status', '/container_structure', '/injected')
+#: Topics that carry events, not a stream: action goals, results and feedback (however often a
+#: strategy retries), velocity commands (only while driving), log lines, state machine
+#: introspection, the simulator's fault log.
+EVENT_TOPICS = ('/feedback', '/goal', '/result', '/cancel', '/cmd_vel', '/rosout', '/container_status',
+                '/container_structure', '/injected')
 #: A board that is silent (or off its bus, or sending garbage) sends nothing: what is computed
 #: from it pauses with it. Not a loss: nothing was there to record.
 BUS_KINDS = ('board_silent', 'can_bus_off', 'serial_garbage', 'serial_truncate')
@@ -64,7 +66,9 @@ def _inside(t, windows, before=0.0, after=0.0):
 
 def no_motor_runs_blind(m, config, faults, t0):
     out = []
-    hcl_dead = dead_windows(faults).get('/hcl', [])
+    dead = dead_windows(faults)
+    hcl_dead = dead.get('/hcl', [])
+    unrecorded = [(a - RECORDER_BUFFER, b + RESTART_ALLOWANCE) for a, b in dead.get('/record', [])]
     for topic in m.find('/sim/', '/firmware'):
         board = topic.split('/')[2]
         block = config.get('hcl', {}).get(board, {})
@@ -80,8 +84,8 @@ def no_motor_runs_blind(m, config, faults, t0):
                           for _, msg, t in m.read(c) if msg.value != 0)
         blind = []
         for t, pwm in samples:
-            if not any(pwm):
-                continue
+            if not any(pwm) or any(a <= t and t - window <= b for a, b in unrecorded):
+                continue  # (the bag cannot tell while the recorder was down)
             i = bisect.bisect_right(commands, t)
             if i == 0 or t - commands[i - 1] > window:
                 blind.append((t, 'no non-zero command for %.2f s' % (t - commands[i - 1] if i else float('inf'))))

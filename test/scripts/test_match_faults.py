@@ -27,15 +27,15 @@ import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Pose2D, Twist
-from nav_msgs.msg import Odometry
 from hal_nodes.msg import GotoActionGoal, GotoActionResult, GotoResult
 from robot_sim.msg import MatchState
-from robot_sim.srv import InjectFault, PlaceOpponent, Teleport
+from robot_sim.srv import InjectFault, PlaceOpponent
 from smart_brain.msg import MatchStatus
 from std_srvs.srv import Trigger
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
+from fault_injector import kidnap  # noqa: E402
 from idle_time import idle_stretches, too_long  # noqa: E402
 
 
@@ -172,17 +172,9 @@ class MatchFaultsTest(unittest.TestCase):
         self.assertEqual(too_long(idle, end), [], 'idle too long while the match ran: %s' % idle)
 
     def kidnap(self, distance):
-        truth = rospy.wait_for_message('/sim/ground_truth', Odometry, 5.0)
-        p = truth.pose.pose
-        x, y = p.position.x, p.position.y
-        theta = 2.0 * math.atan2(p.orientation.z, p.orientation.w)
-        length, width = rospy.get_param('/table/length'), rospy.get_param('/table/width')
-        dx, dy = length / 2.0 - x, width / 2.0 - y
-        d = math.hypot(dx, dy) or 1.0
-        r = rospy.ServiceProxy('/sim/teleport', Teleport)(
-            pose=Pose2D(x + distance * dx / d, y + distance * dy / d, theta))
-        self.assertTrue(r.ok, r.message)
-        note('kidnapped %.2f m from (%.2f, %.2f)', distance, x, y)
+        said = kidnap(distance)
+        self.assertTrue(said.startswith('kidnapped'), said)
+        note('%s', said)
 
 
 if __name__ == '__main__':

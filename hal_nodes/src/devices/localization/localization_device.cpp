@@ -219,11 +219,12 @@ class LocalizationDevice : public Device {
       var_theta = e.cov[8];
     }
     last_saved_ = now;
-    // Never narrower than 5 cm / 0.1 rad: between the last save and a respawned HAL the robot drives
-    // on until its wheels stop (the boards' command watchdogs): a few centimetres at match speed.
+    // Never narrower than 10 cm / 0.15 rad: between the last save and a respawned HAL the robot
+    // drives on until its wheels stop (the HCL's command timeout, the boards' watchdogs): up to
+    // ~20 cm at match speed. A cloud that misses the truth converges confidently next to it.
     pnh_.setParam("initial_pose", std::vector<double>{pose.x, pose.y, pose.theta});
-    pnh_.setParam("initial_std_xy", std::max(0.05, std::sqrt(std::max(0.0, var_xy))));
-    pnh_.setParam("initial_std_theta", std::max(0.1, std::sqrt(std::max(0.0, var_theta))));
+    pnh_.setParam("initial_std_xy", std::max(0.10, std::sqrt(std::max(0.0, var_xy))));
+    pnh_.setParam("initial_std_theta", std::max(0.15, std::sqrt(std::max(0.0, var_theta))));
   }
 
   // The advancing input: /odom (primary, it triggers a step), or encoder pairs under it.

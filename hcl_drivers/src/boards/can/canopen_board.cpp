@@ -247,22 +247,30 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "CAN bus %s was bus-off since the last report (now %s)",
                        bus_->url().c_str(), transport::toString(bs.state));
   bus_off_reported_ = bs.bus_off_count;
-  // A reset or a malformed frame is over by the next report: each is named once, at ERROR, by
-  // the report that follows it (the driver has re-configured the board / dropped the frame).
+  // A reset or a malformed frame is over at once (the driver re-configured the board / dropped
+  // the frame): each is named at ERROR for kTransientHold from the report that first sees it, so
+  // a team (and a bag) sees it on several reports, then the board is OK again.
   uint32_t boot_ups, malformed;
   {
     std::lock_guard<std::mutex> lk(status_mutex_);
     boot_ups = status_copy_.boot_ups;
     malformed = status_copy_.malformed_frames;
   }
-  if (reports_ > 0 && boot_ups > boot_ups_reported_)
-    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
-                       "the board reset: %u boot-up(s) of node %d since the last report (re-configured)",
-                       boot_ups - boot_ups_reported_, node_id_);
-  if (reports_ > 0 && malformed > malformed_reported_)
-    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
-                       "%u malformed frame(s) from node %d since the last report (dropped)", malformed - malformed_reported_,
-                       node_id_);
+  const ros::Time now = ros::Time::now();
+  char buf[160];
+  if (reports_ > 0 && boot_ups > boot_ups_reported_) {
+    snprintf(buf, sizeof buf, "the board reset: %u boot-up(s) of node %d (re-configured)", boot_ups - boot_ups_reported_,
+             node_id_);
+    reset_said_ = buf;
+    reset_until_ = now + ros::Duration(kTransientHold);
+  }
+  if (reports_ > 0 && malformed > malformed_reported_) {
+    snprintf(buf, sizeof buf, "%u malformed frame(s) from node %d (dropped)", malformed - malformed_reported_, node_id_);
+    malformed_said_ = buf;
+    malformed_until_ = now + ros::Duration(kTransientHold);
+  }
+  if (now < reset_until_) stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, reset_said_);
+  if (now < malformed_until_) stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, malformed_said_);
   boot_ups_reported_ = boot_ups;
   malformed_reported_ = malformed;
   ++reports_;

@@ -109,6 +109,9 @@ class CanopenBoard : public Board {
   // a second falls between two 1 Hz reports; the next report still says it happened.
   unsigned long bus_off_reported_ = 0;
   uint32_t boot_ups_reported_ = 0, malformed_reported_ = 0;  // at the last /diagnostics report
+  static constexpr double kTransientHold = 1.0;  // [s] a reset or a malformed frame stays ERROR this long
+  ros::Time reset_until_, malformed_until_;
+  std::string reset_said_, malformed_said_;
   unsigned long reports_ = 0;  // boot-ups before the first report are the power-on, not a reset
   std::mutex status_mutex_;  // node counters copied for diagnostics/state
   CanNodeStatus status_copy_;

@@ -13,9 +13,8 @@
 //   ~silence_timeout  [s] no valid message for this long = not answering (default 1.0)
 //   ~beacon_timeout   [s] one beacon unheard for this long while others are heard: ERROR naming
 //                     it (default 0.6: each beacon is heard every ~0.3 s at most on the table)
-// /diagnostics: ERROR while a beacon is silent, and for one report after bad bytes on the line
-// (garbage, checksum errors, truncated messages): noise on the serial line is named, not just
-// counted.
+// /diagnostics: ERROR while a beacon is silent, and for 1 s after bad bytes on the line (garbage,
+// checksum errors, truncated messages): noise on the serial line is named, not just counted.
 // Topics: ~delta (hcl_drivers/BeaconDelta, every message, stamp = receive time of its last byte),
 //         ~state (hcl_drivers/BeaconReceiverState, latched, newest delta per beacon + counters).
 #include <hcl_drivers/BeaconDelta.h>
@@ -84,18 +83,22 @@ class BeaconReceiver : public Board {
     stat.add("checksum errors", stats_.checksum_errors);
     stat.add("malformed messages", stats_.malformed);
     stat.add("unknown beacon ids", unknown_ids_);
+    // Bad bytes are over at once (the parser resynchronised): named at ERROR for kBadInputHold
+    // from the report that first sees them, then OK again.
+    const ros::Time now = ros::Time::now();
     const uint64_t bad = stats_.garbage_bytes + stats_.checksum_errors + stats_.malformed;
-    if (bad > bad_reported_)
-      stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
-                         "bad input on %s since the last report: %llu garbage byte(s), %llu checksum error(s), "
-                         "%llu malformed message(s)",
-                         port_->path().c_str(), static_cast<unsigned long long>(stats_.garbage_bytes - reported_.garbage_bytes),
-                         static_cast<unsigned long long>(stats_.checksum_errors - reported_.checksum_errors),
-                         static_cast<unsigned long long>(stats_.malformed - reported_.malformed));
+    if (bad > bad_reported_) {
+      char buf[200];
+      snprintf(buf, sizeof buf, "bad input on %s: %lu garbage byte(s), %lu checksum error(s), %lu malformed message(s)",
+               port_->path().c_str(), stats_.garbage_bytes - reported_.garbage_bytes,
+               stats_.checksum_errors - reported_.checksum_errors, stats_.malformed - reported_.malformed);
+      bad_said_ = buf;
+      bad_until_ = now + ros::Duration(kBadInputHold);
+    }
+    if (now < bad_until_) stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, bad_said_);
     bad_reported_ = bad;
     reported_ = stats_;
     // One beacon silent while the receiver hears the others (all silent: the board itself is).
-    const ros::Time now = ros::Time::now();
     if (!last_valid_.isZero() && (now - last_valid_).toSec() <= silence_timeout_) {
       std::string silent;
       for (std::size_t id = 0; id < state_.stamps.size(); ++id) {
@@ -194,6 +197,9 @@ class BeaconReceiver : public Board {
   double beacon_timeout_ = 0.6;
   uint64_t bad_reported_ = 0;   // garbage + checksum + malformed counted at the last report
   beacon_protocol::Stats reported_;
+  static constexpr double kBadInputHold = 1.0;  // [s] bad input stays ERROR this long
+  ros::Time bad_until_;
+  std::string bad_said_;
   ros::Publisher delta_pub_, state_pub_;
   std::atomic<bool> running_{false};
   std::thread reader_;
