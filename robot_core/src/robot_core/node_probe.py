@@ -18,15 +18,17 @@ class _TimeoutTransport(xmlrpc.client.Transport):
         return conn
 
 
-def probe(master, node, timeout, caller):
+def probe(master, node, timeout, caller, uri=None):
     """(pid, None) when `node` answers getPid within `timeout` wall seconds, else (None, why).
-    `master`: a rosgraph.Master; `caller`: the asking node's name."""
-    try:
-        uri = master.lookupNode(node)
-    except rosgraph.MasterError:
-        return None, 'not registered with the master'
-    except (socket.error, OSError) as e:
-        return None, 'ROS master unreachable: %s' % e
+    `master`: a rosgraph.Master; `caller`: the asking node's name; `uri`: the node's XML-RPC URI
+    when the caller knows it (saves asking the master; a respawned node has a new one)."""
+    if uri is None:
+        try:
+            uri = master.lookupNode(node)
+        except rosgraph.MasterError:
+            return None, 'not registered with the master'
+        except (socket.error, OSError) as e:
+            return None, 'ROS master unreachable: %s' % e
     try:
         code, msg, pid = xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout)).getPid(caller)
     except socket.timeout:
