@@ -13,7 +13,8 @@ frozen is a wall-clock event). Kinds (scripts/fault_injector.py injects them):
 """
 import random
 
-SPACING = 9.0          # [s] between two faults' starts: a fault's recovery (5 s) ends before the next
+SPACING = 9.0          # [s] one slot per fault; it starts at a random time in its slot's first JITTER
+JITTER = 3.0           # seconds, so two faults start at least SPACING - JITTER apart
 FIRST, LAST = 8.0, 10.0  # [s] no fault in the first FIRST and last LAST seconds of the match
 STALL = 0.5            # [s, wall] SIGSTOP of hal_node
 
@@ -22,7 +23,7 @@ def catalogue(config):
     """Every fault class this robot has: {class name: function(rng) -> fault}."""
     hcl = {name: block for name, block in config.get('hcl', {}).items() if isinstance(block, dict)}
     can = sorted(n for n, b in hcl.items() if 'node_id' in b)
-    i2c = sorted(n for n, b in hcl.items() if str(b.get('bus', '')).startswith('/dev/i2c'))
+    i2c = sorted(n for n, b in hcl.items() if 'address' in b)  # an I2C chip has its address
     serial = sorted(n for n, b in hcl.items() if b.get('type') == 'BeaconReceiver')
     motors = sorted(m for m in config['sim']['world']['robot'].get('motors', {}) if m in ('left', 'right'))
     beacons = len(config.get('table', {}).get('beacons', [])) or 3
@@ -67,7 +68,7 @@ def draw_schedules(config, n, seed, duration):
                 deck = sorted(classes)
                 rng.shuffle(deck)
             f = classes[deck.pop()](rng)
-            f['at'] = round(FIRST + k * SPACING + rng.uniform(0.0, SPACING - 6.0), 2)
+            f['at'] = round(FIRST + k * SPACING + rng.uniform(0.0, JITTER), 2)
             faults.append(f)
         schedules.append(faults)
     return schedules

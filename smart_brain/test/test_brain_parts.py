@@ -122,6 +122,31 @@ class MatchTimerOnASimulatedClockTest(unittest.TestCase):
         self.assertTrue(self.ended.wait(1.0), 'a jump past the end ends the match')
         self.assertAlmostEqual(timer.elapsed(), 90.0, places=6)
 
+    def test_a_resumed_match_keeps_its_start(self):
+        # A brain respawned 50 s into the match starts its timer at the saved start time.
+        timer = self.make()
+        self.clock.set(150.0)
+        self.assertTrue(timer.start(at=100.0))
+        self.assertEqual(timer.started_at, 100.0)
+        self.assertAlmostEqual(timer.elapsed(), 50.0, places=6)
+        self.assertFalse(timer.start(), 'the start signal of the cord does not restart it')
+        self.clock.set(190.0)
+        self.assertTrue(self.ended.wait(1.0), 'it ends 90 s after the saved start')
+
+    def test_a_match_resumed_after_its_end_ends_at_once(self):
+        timer = self.make()
+        self.clock.set(300.0)
+        timer.start(at=100.0)
+        self.assertTrue(self.ended.wait(1.0))
+        self.assertEqual(timer.remaining(), 0.0)
+
+    def test_a_saved_start_in_the_future_is_now(self):
+        # (the brain refuses a start from another clock; the timer never counts negative time)
+        timer = self.make()
+        self.clock.set(100.0)
+        timer.start(at=120.0)
+        self.assertEqual(timer.started_at, 100.0)
+
     def test_nothing_counts_before_the_start(self):
         timer = self.make()
         self.clock.set(500.0)

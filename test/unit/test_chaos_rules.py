@@ -1,0 +1,171 @@
+"""The chaos runner's fault schedules and invariants (scripts/chaos_faults.py,
+scripts/chaos_invariants.py) on made-up matches: each invariant catches what it must and lets
+pass what it must. No ROS master, no simulation."""
+import os
+import sys
+import unittest
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
+sys.path.insert(0, os.path.join(ROOT, 'scripts'))
+import chaos_faults  # noqa: E402
+import chaos_invariants as inv  # noqa: E402
+from run_matches import robot_config  # noqa: E402
+
+ISSUE_CLASSES = {'board_silent', 'can_bus_off', 'can_reset', 'can_malformed', 'serial_garbage', 'serial_truncate',
+                 'beacon_silent', 'wheel_slip', 'kidnap', 'opponent_blocks', 'kill_hcl', 'kill_hal', 'kill_brain',
+                 'stall_hal', 'kill_record'}
+
+
+class Stamp(object):
+    def __init__(self, t):
+        self.t = t
+
+    def to_sec(self):
+        return self.t
+
+
+class FakeBag(object):
+    def __init__(self, series):
+        self.series = series
+
+    def read_messages(self, topics):
+        return ((topics[0], None, Stamp(t)) for t in self.series.get(topics[0], []))
+
+
+class FakeMatch(object):
+    """What the invariants read of a Match: topics, their messages' times, poses."""
+
+    def __init__(self, series=None, poses=None):
+        self.topics = {t: ('x', len(v)) for t, v in (series or {}).items()}
+        self.bag = FakeBag(series or {})
+        self._poses = poses or {}
+
+    def poses(self, topic):
+        return self._poses.get(topic, [])
+
+
+def fault(kind, target='', start=10.0, end=12.0, outcome='injected'):
+    return dict(kind=kind, target=target, start=start, end=end, outcome=outcome)
+
+
+class ScheduleTest(unittest.TestCase):
+    def setUp(self):
+        self.config = robot_config('eurobot2009')
+        self.duration = float(self.config['brain']['match']['duration'])
+
+    def test_the_2009_robot_has_every_class_of_the_issue_but_i2c(self):
+        self.assertEqual(set(chaos_faults.catalogue(self.config)), ISSUE_CLASSES)
+
+    def test_an_i2c_robot_has_the_nack_storm(self):
+        self.assertIn('i2c_nack_storm', chaos_faults.catalogue(robot_config('logion')))
+
+    def test_ten_matches_cover_every_class_spaced_inside_the_match(self):
+        schedules = chaos_faults.draw_schedules(self.config, 10, 1, self.duration)
+        self.assertEqual(len(schedules), 10)
+        self.assertEqual({f['class'] for s in schedules for f in s}, ISSUE_CLASSES)
+        for s in schedules:
+            times = [f['at'] for f in s]
+            self.assertEqual(times, sorted(times))
+            self.assertGreaterEqual(min(times), chaos_faults.FIRST)
+            self.assertLessEqual(max(times), self.duration - chaos_faults.LAST)
+            self.assertTrue(all(b - a >= chaos_faults.SPACING - chaos_faults.JITTER for a, b in zip(times, times[1:])))
+
+    def test_the_seed_decides(self):
+        a = chaos_faults.draw_schedules(self.config, 3, 7, self.duration)
+        self.assertEqual(a, chaos_faults.draw_schedules(self.config, 3, 7, self.duration))
+        self.assertNotEqual(a, chaos_faults.draw_schedules(self.config, 3, 8, self.duration))
+
+    def test_each_fault_names_its_board_or_process(self):
+        self.assertEqual(chaos_faults.expected_status(fault('can_bus_off', 'epos')), 'hcl/epos: board')
+        self.assertEqual(chaos_faults.expected_status(fault('stall', '/hal')), 'process /hal')
+        self.assertEqual(chaos_faults.expected_status(fault('beacon_silent', '1')), 'hcl/beacons: board')
+        self.assertIsNone(chaos_faults.expected_status(fault('kidnap')))
+
+
+class NamedTest(unittest.TestCase):
+    def check(self, points, f=None):
+        f = f or fault('board_silent', 'motor_board')
+        return inv.faults_named(None, [f], 0.0, series={'hcl/motor_board: board': points})
+
+    def test_named_in_time_and_cleared_in_time_passes(self):
+        self.assertEqual(self.check([(10.5, 3, 'stale'), (12.5, 0, 'ok')]), [])
+
+    def test_named_too_late(self):
+        v = self.check([(11.5, 3, 'stale'), (12.5, 0, 'ok')])
+        self.assertEqual(len(v), 1)
+        self.assertIn('not named', v[0][1])
+
+    def test_a_warn_does_not_name_it(self):
+        self.assertIn('not named', self.check([(10.5, 1, 'slow'), (12.5, 0, 'ok')])[0][1])
+
+    def test_never_cleared(self):
+        self.assertIn('not back to OK', self.check([(10.5, 2, 'x'), (14.5, 0, 'ok')])[0][1])
+
+    def test_the_recorder_down_excuses(self):
+        down = fault('kill', '/record', start=9.0, end=13.0)
+        self.assertEqual(inv.faults_named(None, [fault('board_silent', 'motor_board'), down], 0.0,
+                                          series={'process /record': [(15.0, 0, 'ok')]}), [])
+
+
+class LostTest(unittest.TestCase):
+    def stream(self, start, end, period=0.1, gap=None):
+        t, out = start, []
+        while t <= end:
+            if not (gap and gap[0] < t < gap[1]):
+                out.append(t)
+            t += period
+        return out
+
+    def test_a_gap_is_lost(self):
+        m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
+        v = inv.nothing_lost(m, [], 0.0, 90.0, 0.0, {})
+        self.assertEqual(len(v), 1)
+        self.assertIn('/odom', v[0][1])
+
+    def test_its_dead_publisher_excuses_a_gap(self):
+        m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
+        self.assertEqual(inv.nothing_lost(m, [fault('kill', '/hal', 30.0, 31.0)], 0.0, 90.0, 0.0, {}), [])
+
+    def test_another_dead_process_does_not(self):
+        m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
+        self.assertEqual(len(inv.nothing_lost(m, [fault('kill', '/brain', 30.0, 31.0)], 0.0, 90.0, 0.0, {})), 1)
+
+    def test_the_hcl_dead_starves_the_hal(self):
+        m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
+        self.assertEqual(inv.nothing_lost(m, [fault('kill', '/hcl', 30.0, 31.0)], 0.0, 90.0, 0.0, {}), [])
+
+    def test_a_topic_that_stops_before_the_end_is_lost(self):
+        m = FakeMatch({'/hcl/joystick/joy': self.stream(0, 45)})
+        self.assertEqual(len(inv.nothing_lost(m, [], 0.0, 90.0, 0.0, {})), 1)
+
+    def test_events_are_not_streams(self):
+        m = FakeMatch({'/hal/driver/goto/goal': self.stream(0, 10) + [50.0]})
+        self.assertEqual(inv.nothing_lost(m, [], 0.0, 90.0, 0.0, {}), [])
+
+
+class EndAndRecoveryTest(unittest.TestCase):
+    def test_effectors_on_after_the_end(self):
+        v = inv.match_ends(FakeMatch(), [], 90.0, 0.0, lambda m, end: None)
+        self.assertIn('still on', v[0][1])
+
+    def test_hal_dead_at_the_end_commands_nothing(self):
+        self.assertEqual(inv.match_ends(FakeMatch(), [fault('kill', '/hal', 89.5, 93.0)], 90.0, 0.0,
+                                        lambda m, end: None), [])
+
+    def poses(self, error_after):
+        truth = [(t / 10.0, t / 100.0, 1.0, 0.0) for t in range(0, 900)]
+        estimate = [(t, x + (error_after(t)), y, a) for t, x, y, a in truth[1:-1]]
+        return FakeMatch(poses={'/mcl/pose': estimate, '/sim/ground_truth': truth})
+
+    def test_back_within_five_seconds_passes(self):
+        m = self.poses(lambda t: 0.2 if 10.0 <= t < 14.0 else 0.0)
+        self.assertEqual(inv.robot_recovers(m, [fault('kidnap', start=10.0, end=10.0)], 90.0, 0.0), [])
+
+    def test_back_after_eight_seconds_fails(self):
+        m = self.poses(lambda t: 0.2 if 10.0 <= t < 18.0 else 0.0)
+        v = inv.robot_recovers(m, [fault('kidnap', start=10.0, end=10.0)], 90.0, 0.0)
+        self.assertIn('not recovered', v[0][1])
+
+
+if __name__ == '__main__':
+    unittest.main()
