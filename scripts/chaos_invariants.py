@@ -13,8 +13,8 @@ end, simulated time). Every check returns violations as (time [s of match], text
                        recorder, was dead (until it was back and started: RESTART_ALLOWANCE)
   the match ends       the effectors are off EFFECTORS_GRACE after the match end, or hal_node is
                        dead then (nothing is commanded)
-  the robot recovers   after a fault's end, /mcl/pose within RECOVERED_M of the truth again within
-                       RECOVER_WITHIN
+  the robot recovers   after a fault's end, /mcl/pose within RECOVERED_M of the truth again (and
+                       for SETTLED) within RECOVER_WITHIN
 """
 import bisect
 import collections
@@ -29,6 +29,7 @@ GAP_MIN, GAP_PERIODS = 1.0, 10.0
 RESTART_ALLOWANCE = 5.0   # [s] after a respawned node answers, until its topics flow again
 EFFECTORS_GRACE = 1.0     # [s]
 RECOVERED_M, RECOVER_WITHIN = 0.05, 5.0
+SETTLED = 1.0             # [s] the error stays below RECOVERED_M this long to count as back
 OK, ERROR = 0, 2
 
 RECORDER_BUFFER = 1.0     # [s] a recorder killed -9 loses the chunk it had not written yet
@@ -195,6 +196,18 @@ def match_ends(m, faults, end, t0, effectors_off_delay):
     return []
 
 
+def first_settled(errors):
+    """The first time the error is below RECOVERED_M and stays below for SETTLED seconds (an
+    estimate that merely has not yet seen a kidnap is not a recovery), or None."""
+    for k, (t, e, _) in enumerate(errors):
+        if e >= RECOVERED_M:
+            continue
+        later = [e2 for t2, e2, _ in errors[k:] if t2 <= t + SETTLED]
+        if errors[-1][0] >= t + SETTLED and max(later) < RECOVERED_M:
+            return t
+    return None
+
+
 def robot_recovers(m, faults, end, t0):
     out = []
     errors = errors_against_truth(m.poses('/mcl/pose'), m.poses('/sim/ground_truth'))
@@ -203,7 +216,7 @@ def robot_recovers(m, faults, end, t0):
         if f['outcome'].startswith(('REFUSED', 'FAILED')) or end is None or f['end'] + RECOVER_WITHIN > end:
             continue
         i = bisect.bisect_left(times, f['end'])
-        back = next((t for t, e, _ in errors[i:] if e < RECOVERED_M), None)
+        back = first_settled(errors[i:])
         if back is None or back > f['end'] + RECOVER_WITHIN:
             worst = max((e for t, e, _ in errors[i:] if t <= f['end'] + RECOVER_WITHIN), default=float('nan'))
             out.append((f['end'] - t0, 'not recovered: localization not within %.0f cm of the truth %.0f s after '
