@@ -7,8 +7,6 @@ faults and 0 violations, and each match kept a readable bag and its report."""
 import os
 import re
 import shutil
-import signal
-import subprocess
 import sys
 import tempfile
 import unittest
@@ -16,6 +14,8 @@ import unittest
 import rospy
 import rostest
 import yaml
+
+from match_runner import run_runner  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 ROBOT, N, SEED = 'eurobot2009', 2, 1
@@ -35,18 +35,7 @@ class ChaosSmokeTest(unittest.TestCase):
             cls.schedule = yaml.safe_load(f)
         cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'run_chaos.py'), ROBOT, '--n', str(N), '--seed', str(SEED),
                '--factor', repr(cls.factor), '--out', cls.out, '--schedule', SCHEDULE]
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
-                                start_new_session=True)
-        try:
-            cls.output, cls.rc = proc.communicate(timeout=RUNNER_TIMEOUT)[0], proc.returncode
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                output = proc.communicate(timeout=90)[0]
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                output = proc.communicate()[0]
-            cls.rc, cls.output = None, output + '\n(run_chaos.py did not finish in %.0f s)' % RUNNER_TIMEOUT
+        cls.rc, cls.output = run_runner(cmd, RUNNER_TIMEOUT)
         print(cls.output)
 
     @classmethod

@@ -7,14 +7,14 @@ import math
 import os
 import re
 import shutil
-import signal
-import subprocess
 import sys
 import tempfile
 import unittest
 
 import rospy
 import rostest
+
+from match_runner import run_runner  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 ROBOT, N, SEED = 'eurobot2009', 2, 1
@@ -32,20 +32,7 @@ class MatchesSmokeTest(unittest.TestCase):
         cls.out = tempfile.mkdtemp(prefix='matches_smoke_')
         cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'run_matches.py'), ROBOT, '--n', str(N),
                '--seed', str(SEED), '--factor', repr(cls.factor), '--out', cls.out]
-        # A session of its own: on a timeout, Ctrl-C reaches the runner and its run_match.py, which
-        # stops the robot it launched (a plain kill would leave that simulation running).
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
-                                start_new_session=True)
-        try:
-            cls.output, cls.rc = proc.communicate(timeout=RUNNER_TIMEOUT)[0], proc.returncode
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                output = proc.communicate(timeout=90)[0]
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                output = proc.communicate()[0]
-            cls.rc, cls.output = None, output + '\n(run_matches.py did not finish in %.0f s)' % RUNNER_TIMEOUT
+        cls.rc, cls.output = run_runner(cmd, RUNNER_TIMEOUT)
         print(cls.output)  # the runner's progress and table in the test's log
 
     @classmethod
