@@ -29,7 +29,7 @@ struct Step {
 // A robot weaving over the table at 100 Hz, encoders with 1 % noise and slips, a beacon range
 // every 30 ms (10 mm noise, 2 % long outliers, 5 % dropouts). kidnap_at: teleport the truth.
 std::vector<Step> makeRun(unsigned seed, double seconds, double kidnap_at = -1.0, int silent_beacon = -1,
-                          double silent_from = 0.0, double silent_to = 0.0) {
+                          double silent_from = 0.0, double silent_to = 0.0, double kidnap_push = 0.0) {
   std::mt19937 gen(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -37,15 +37,19 @@ std::vector<Step> makeRun(unsigned seed, double seconds, double kidnap_at = -1.0
   std::vector<Step> run;
   for (int k = 0; k < static_cast<int>(seconds / 0.01); ++k) {
     const double t = k * 0.01;
-    if (kidnap_at > 0 && std::fabs(t - kidnap_at) < 0.005) {
+    if (kidnap_at > 0 && std::fabs(t - kidnap_at) < 0.005 && kidnap_push > 0.0) {
+      x += x < 1.5 ? kidnap_push : -kidnap_push;  // pushed toward the centre, heading kept
+    } else if (kidnap_at > 0 && std::fabs(t - kidnap_at) < 0.005) {
       x = x < 1.5 ? x + 1.0 : x - 1.0;  // a metre away, turned round
       y = 2.1 - y;
       th = std::remainder(th + 2.5, 2 * M_PI);
     }
-    const double v = 0.5 + 0.2 * std::sin(0.3 * t);
+    // Pushed: the robot then stands still, as it does while its driver holds on an uncertain pose.
+    const bool pushed = kidnap_push > 0.0 && t >= kidnap_at;
+    const double v = pushed ? 0.0 : 0.5 + 0.2 * std::sin(0.3 * t);
     const double dev = std::remainder(std::atan2(1.05 - y, 1.5 - x) - th, 2 * M_PI);
     const bool near = x < 0.4 || x > 2.6 || y < 0.4 || y > 1.7;
-    const double w = near ? std::clamp(3.0 * dev, -2.0, 2.0) : 0.8 * std::sin(0.45 * t + 0.3 * std::sin(0.1 * t));
+    const double w = pushed ? 0.0 : near ? std::clamp(3.0 * dev, -2.0, 2.0) : 0.8 * std::sin(0.45 * t + 0.3 * std::sin(0.1 * t));
     const double ds = v * 0.01, dth = w * 0.01;
     x += ds * std::cos(th + dth / 2);
     y += ds * std::sin(th + dth / 2);
@@ -162,6 +166,27 @@ TEST(Filter, RecoversFromAKidnapWithoutHelp) {
   EXPECT_GE(rig.filter->resets(), 1u);                // detected by itself
   EXPECT_LT(maxOf(err, 1000, err.size()), 0.05);      // recovered within 3 s
   EXPECT_FALSE(rig.filter->estimate().lost);
+}
+
+// A robot pushed 30 cm (the chaos runner's kidnap) that then stands still: every particle stays
+// possible on the table and no motion spreads the cloud toward the truth. The contradiction test
+// (the median normalized innovation of the last second) must notice it and reset from the
+// beacons. In simulated matches, without that test, the estimate stayed 30 cm off for 45 s (a
+// replay of that match with it: back within 3 s); this synthetic rig, with sharper ranges,
+// recovers either way, so it guards the detection, not the difference.
+TEST(Filter, NoticesAShortPushAndRecovers) {
+  const auto steps = makeRun(21, 14.0, 7.0, -1, 0.0, 0.0, 0.3);
+  FilterConfig fc;
+  fc.max_particles = 1000;
+  Rig rig(fc);
+  rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
+  const auto before = rig.run(steps, 0, 700);
+  EXPECT_LT(rms(before, 200, 700), 0.015);
+  EXPECT_EQ(rig.filter->resets(), 0u) << "a false alarm while tracking (2 % long outliers)";
+  const auto after = rig.run(steps, 700);
+  EXPECT_GT(maxOf(after, 0, 20), 0.25);  // the push happened
+  EXPECT_GE(rig.filter->resets(), 1u);
+  EXPECT_LT(maxOf(after, 300, after.size()), 0.05) << "not recovered within 3 s";
 }
 
 // The probability says whether the estimate is within quality_tolerance of the truth: high

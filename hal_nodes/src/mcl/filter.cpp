@@ -121,8 +121,9 @@ void Filter::predictAndUpdate(ParticleSet& set) {
     if (!c->ready(ctx_)) continue;
     c->check(set, ctx_);
     monitored |= c->monitorsLikelihood();
-    double predictive, uninformed;
+    double predictive, uninformed, nis;
     if (c->evidence(&predictive, &uninformed)) weighEvidence(predictive, uninformed);
+    if (c->innovation(&nis)) innovations_.emplace_back(ctx_.now, nis);
   }
   table_->check(set, ctx_);
   const double s1 = set.weightSum();
@@ -152,12 +153,33 @@ void Filter::predictAndUpdate(ParticleSet& set) {
       lost_ = reset_pending_ = true;
     }
   }
+  if (!lost_ && !reset_pending_ && contradicted()) lost_ = reset_pending_ = true;
   if (reset_pending_ && resetFromSensorsIfPossible()) return;
 
   // MRPT's resampling draws from its global generator: seed it from ours so a fixed ~seed
   // replays identically whatever else in the process uses it.
   if (set.ESS() < cfg_.ess_threshold)
     mrpt::random::getRandomGenerator().randomize(static_cast<uint32_t>(rng_.next() >> 32));
+}
+
+bool Filter::contradicted() {
+  while (!innovations_.empty() && innovations_.front().first < ctx_.now - cfg_.contradiction_window)
+    innovations_.pop_front();
+  if (cfg_.contradiction_nis <= 0.0 || innovations_.size() < cfg_.contradiction_count) return false;
+  std::vector<double> v;
+  v.reserve(innovations_.size());
+  for (const auto& p : innovations_) v.push_back(p.second);
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  const double median = v[v.size() / 2];
+  if (median > cfg_.contradiction_nis) {
+    innovations_.clear();
+    return true;
+  }
+  // A milder disagreement (a slip the odometry did not see): the cloud is right to stay but too
+  // tight to move toward the measurements when the robot stands still. Roughen it, as after a
+  // reset, while the disagreement lasts.
+  if (median > cfg_.roughen_nis) recover_until_ = std::max(recover_until_, ctx_.now + cfg_.contradiction_window);
+  return false;
 }
 
 void Filter::weighEvidence(double predictive, double uninformed) {
@@ -172,6 +194,7 @@ void Filter::weighEvidence(double predictive, double uninformed) {
 }
 
 void Filter::restartLikelihoodWatch() {
+  innovations_.clear();
   // A new cloud starts from the known good level: a wrong pose is then detected as a collapse.
   monitored_ = 0;
   w_fast_ = w_slow_;

@@ -24,6 +24,7 @@
 #include <mrpt/bayes/CParticleFilter.h>
 
 #include <array>
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -60,6 +61,15 @@ struct FilterConfig {
   // inconsistent ones after a kidnap take it under 0.1. 0.01 let two garbage ranges in a row
   // (seen on the simulated Logion) drop it to 0.19 and abort the driver's goal.
   double track_hazard = 1e-4;
+  // Kidnap: lost when, over the last contradiction_window seconds of measurements, at least
+  // contradiction_count measurements came and their median normalized innovation (input.h) is
+  // above contradiction_nis: most measurements contradict the cloud, not one beacon's echo.
+  // 0 disables. The likelihood averages cannot tell (not monitored: see the top of this file),
+  // and a kidnapped cloud rarely becomes impossible on the table.
+  double contradiction_nis = 9.0;      // (3 sigma)
+  double contradiction_window = 1.0;   // [s]
+  std::size_t contradiction_count = 10;
+  double roughen_nis = 2.0;            // median above it (not yet lost): roughen the set meanwhile
   uint64_t seed = 1;
 };
 
@@ -139,6 +149,8 @@ class Filter : private ParticleSet::Hooks {
   bool lost_ = true;
   bool reset_pending_ = false;
   double recover_until_ = -1e300;  // roughen after resampling until then
+  std::deque<std::pair<double, double>> innovations_;  // (time, normalized innovation squared)
+  bool contradicted();
   unsigned long resamplings_ = 0, resets_ = 0;
 };
 

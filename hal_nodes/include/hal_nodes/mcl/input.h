@@ -52,6 +52,10 @@ class CheckingInput {
   // mean of its untempered likelihood) and its density if the pose were unknown. Their ratio is
   // the evidence that the filter tracks the true pose. False: this input gives no such evidence.
   virtual bool evidence(double* /*predictive*/, double* /*uninformed*/) const { return false; }
+  // After check(): the measurement's normalized innovation squared against the cloud (its
+  // residual from the cloud's mean prediction, squared, over its noise variance plus the
+  // prediction's spread): ~1 when the cloud explains it. False: this input gives none.
+  virtual bool innovation(double* /*nis*/) const { return false; }
   // Drop pending data (on reset).
   virtual void clear() {}
 

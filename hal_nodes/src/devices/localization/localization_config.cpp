@@ -66,6 +66,10 @@ LocalizationConfig readLocalizationConfig(const ros::NodeHandle& pnh) {
   readInRange(p, "lost_ratio", &fc.lost_ratio, 0.0, 1.0);
   readInRange(p, "reset_fraction", &fc.reset_fraction, 0.01, 1.0);
   readInRange(p, "recovery_time", &fc.recovery_time, 0.0, 60.0);
+  readInRange(p, "contradiction_nis", &fc.contradiction_nis, 0.0, 1e6);
+  readInRange(p, "contradiction_window", &fc.contradiction_window, 0.01, 60.0);
+  readInRange(p, "roughen_nis", &fc.roughen_nis, 0.0, 1e6);
+  fc.contradiction_count = static_cast<std::size_t>(p.optionalDouble("contradiction_count", fc.contradiction_count));
 
   // ---- advancing input: odometry ----
   mcl::MotionModel& mm = c.motion;

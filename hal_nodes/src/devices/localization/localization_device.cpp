@@ -24,6 +24,9 @@
 //   ~resampling [systematic] (multinomial|residual|stratified|systematic)  ~ess_threshold [0.5]
 //   ~alpha_slow [0.01] ~alpha_fast [0.2] ~lost_ratio [0.05] ~reset_fraction [1.0] ~recovery_time [2 s]
 //   ~quality_tolerance [0.05 m] ("right" = within this of the truth) ~track_hazard [1e-4] (filter.h)
+//   ~contradiction_nis [9] ~contradiction_window [1 s] ~contradiction_count [10]: lost (kidnap) when
+//             the median normalized innovation of the last window's measurements is above it;
+//             ~roughen_nis [2]: above this median the set is roughened (a slip to catch up with)
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
 //   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]

@@ -113,6 +113,11 @@ void BeaconBelts::check(ParticleSet& set, const StepContext& ctx) {
   }
   evidence_pred_ = sw > 0.0 ? swl / sw : -1.0;
   evidence_uninformed_ = 1.0 / span_[id];
+  nis_ = -1.0;
+  if (sw > 0.0) {
+    const double mean = swd / sw, var_pred = std::max(0.0, swd2 / sw - mean * mean);
+    nis_ = (r - mean) * (r - mean) / (sigma * sigma + var_pred);
+  }
 
   // Learn the range noise from innovations while tracking well: innovation^2 = noise^2 +
   // spread of the predicted range; gross outliers (beyond 4 sigma) do not count.
@@ -137,6 +142,12 @@ bool BeaconBelts::evidence(double* predictive, double* uninformed) const {
   const double o = cfg_.outlier_probability;
   *predictive = (1.0 - o) * evidence_pred_ + o * evidence_uninformed_;
   *uninformed = evidence_uninformed_;
+  return true;
+}
+
+bool BeaconBelts::innovation(double* nis) const {
+  if (nis_ < 0.0) return false;
+  *nis = nis_;
   return true;
 }
 

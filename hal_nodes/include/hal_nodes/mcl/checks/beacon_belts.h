@@ -64,6 +64,7 @@ class BeaconBelts : public CheckingInput, public PoseSampler {
   void check(ParticleSet& set, const StepContext& ctx) override;
   bool monitorsLikelihood() const override { return true; }
   bool evidence(double* predictive, double* uninformed) const override;
+  bool innovation(double* nis) const override;
   void clear() override { pending_ = -1; }
 
   // ---- PoseSampler: trilateration from the recent ranges ----
@@ -85,6 +86,7 @@ class BeaconBelts : public CheckingInput, public PoseSampler {
   // evidence of the last applied range: predictive density, density without a pose (1 / the
   // span of the beacon's distances over the table)
   double evidence_pred_ = -1.0, evidence_uninformed_ = 0.0;
+  double nis_ = -1.0;  // of the range just applied (-1: none)
   std::vector<double> span_;  // per beacon: farthest table corner [m]
   unsigned long rejected_ = 0;
   // innovation statistics for range_std_auto
