@@ -14,7 +14,8 @@ end, simulated time). Every check returns violations as (time [s of match], text
   the match ends       the effectors are off EFFECTORS_GRACE after the match end, or hal_node is
                        dead then (nothing is commanded)
   the robot recovers   after a fault's end, /mcl/pose within RECOVERED_M of the truth again (and
-                       for SETTLED) within RECOVER_WITHIN
+                       for SETTLED) within RECOVER_WITHIN; after a HAL or HCL restart, counted
+                       from the first pose the restarted HAL publishes
 """
 import bisect
 import collections
@@ -216,9 +217,12 @@ def robot_recovers(m, faults, end, t0):
         if f['outcome'].startswith(('REFUSED', 'FAILED')) or end is None or f['end'] + RECOVER_WITHIN > end:
             continue
         i = bisect.bisect_left(times, f['end'])
+        since = f['end']
+        if f['kind'] == 'kill' and f.get('target') in ('/hal', '/hcl') and i < len(times):
+            since = times[i]  # from the restarted HAL's first pose: it loads its devices first
         back = first_settled(errors[i:])
-        if back is None or back > f['end'] + RECOVER_WITHIN:
-            worst = max((e for t, e, _ in errors[i:] if t <= f['end'] + RECOVER_WITHIN), default=float('nan'))
+        if back is None or back > since + RECOVER_WITHIN:
+            worst = max((e for t, e, _ in errors[i:] if t <= since + RECOVER_WITHIN), default=float('nan'))
             out.append((f['end'] - t0, 'not recovered: localization not within %.0f cm of the truth %.0f s after '
                         '%s %s ended (%s; worst %.3f m)' % (100 * RECOVERED_M, RECOVER_WITHIN, f['kind'],
                                                             f.get('target', ''), 'back %.1f s after' % (back - f['end'])

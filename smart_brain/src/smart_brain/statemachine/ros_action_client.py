@@ -12,23 +12,30 @@ from actionlib.action_client import CommState
 class RosGoal(object):
     def __init__(self, handle):
         self._h = handle
+        self._last_status = None  # after forget()
 
     def done(self):
-        return self._h.get_comm_state() in (CommState.DONE, CommState.LOST)
+        return self._h is None or self._h.get_comm_state() in (CommState.DONE, CommState.LOST)
 
     def status(self):
+        if self._h is None:
+            return self._last_status
         if self._h.get_comm_state() == CommState.LOST:
             return 9  # GoalStatus.LOST
         return self._h.get_goal_status()
 
     def result(self):
-        return self._h.get_result()
+        return None if self._h is None else self._h.get_result()
 
     def cancel(self):
-        self._h.cancel()
+        if self._h is not None:
+            self._h.cancel()
 
     def forget(self):
-        self._h.stop_tracking_goal()
+        # Python's actionlib has no stop_tracking_goal (C++ has): its client follows a goal as long
+        # as the goal's handle lives. Keep the last status, drop the handle.
+        self._last_status = self.status()
+        self._h = None
 
 
 class RosActionClient(object):
