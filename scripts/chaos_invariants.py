@@ -34,6 +34,8 @@ SETTLED = 1.0             # [s] the error stays below RECOVERED_M this long to c
 OK, ERROR = 0, 2
 
 RECORDER_BUFFER = 1.0     # [s] a recorder killed -9 loses the chunk it had not written yet
+RECORDER_RESTART = 10.0   # [s] a respawned recorder subscribes again to ~90 topics: one took 6.2 s
+                          # after the recorder answered, on a loaded machine
 
 #: Which process publishes a topic (first matching prefix and suffix); None: several, or the simulator.
 #: The HAL commands the boards on /hcl/<board>/...; the emulated camera serves frames to the HCL.
@@ -164,7 +166,7 @@ def nothing_lost(m, faults, start, end, t0, config):
     for node, windows in dead.items():
         for affected in DOWNSTREAM.get(node, (node,)):
             excused_for[affected] += windows
-    everything = [(a - RECORDER_BUFFER, b) for a, b in dead.get('/record', [])]
+    everything = [(a - RECORDER_BUFFER, b + RECORDER_RESTART - RESTART_ALLOWANCE) for a, b in dead.get('/record', [])]
     for topic in sorted(m.topics):
         if topic.endswith(EVENT_TOPICS):
             continue
