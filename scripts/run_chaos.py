@@ -50,7 +50,8 @@ def unexpected_deaths(folder, robot, faults):
 
 
 def judge(folder, robot, config, rc):
-    """(faults injected, [(match time, violation)]) of one finished match."""
+    """(faults injected, [(match time, violation)], (our score, theirs) or None) of one finished
+    match, from one reading of its bag."""
     bag = os.path.join(folder, robot + '_match.bag')
     log_path = os.path.join(folder, 'faults.yaml')
     faults = []
@@ -61,15 +62,17 @@ def judge(folder, robot, config, rc):
     violations += [(f['start'], '%s %s was not injected: %s' % (f['kind'], f.get('target', ''), f['outcome']))
                    for f in faults if f['outcome'].startswith(('REFUSED', 'FAILED')) or 'NOT back' in f['outcome']]
     if not os.path.exists(bag):
-        return faults, violations + [(0.0, 'no bag (see %s)' % os.path.join(folder, 'run_match.out'))]
+        return faults, violations + [(0.0, 'no bag (see %s)' % os.path.join(folder, 'run_match.out'))], None
     try:
         m = Match(bag)
     except Exception as e:
-        return faults, violations + [(0.0, 'the bag is not readable: %s' % e)]
+        return faults, violations + [(0.0, 'the bag is not readable: %s' % e)], None
+    _, _, series = m.score_series()
+    score = (series[-1][1], series[-1][2]) if series else None
     start, _ = m.start_signal()
     end = m.match_end()
     if start is None:
-        return faults, violations + [(0.0, 'the match never started')]
+        return faults, violations + [(0.0, 'the match never started')], score
     violations = [(t - start if t else 0.0, v) for t, v in violations]
     violations += inv.no_motor_runs_blind(m, config, faults, start)
     violations += inv.faults_named(m, faults, start)
@@ -82,7 +85,7 @@ def judge(folder, robot, config, rc):
     m.bag.close()
     if rc != 0 and not violations:
         violations.append((0.0, 'run_match.py exited with code %d' % rc))
-    return faults, sorted(violations)
+    return faults, sorted(violations), score
 
 
 def main():
@@ -125,9 +128,8 @@ def main():
         t0 = time.monotonic()
         rc = run_matches.run_one(args.robot, seed, args.factor, folder, overlay, None, k + 1, args.n,
                                  extra=['--faults', schedule])
-        faults, violations = judge(folder, args.robot, run_matches.merged(
+        faults, violations, m_score = judge(folder, args.robot, run_matches.merged(
             config, {'sim': {'world': {'opponent': opponent}}}), rc)
-        m_score = score(folder, args.robot)
         rows.append((seed, kind, len(faults), m_score, len(violations), time.monotonic() - t0))
         lines += ['violation: seed %d at %.1f s: %s' % (seed, t, v) for t, v in violations]
         log('[%d/%d] seed %d: %d fault(s), %s' % (k + 1, args.n, seed, len(faults),
@@ -145,20 +147,6 @@ def main():
         f.write('\n'.join(out) + '\n')
     print('\n'.join(out), flush=True)
     return 1 if total_violations else 0
-
-
-def score(folder, robot):
-    """(ours, opponent) of the referee's last /sim/match in the bag, or None."""
-    bag = os.path.join(folder, robot + '_match.bag')
-    if not os.path.exists(bag):
-        return None
-    try:
-        m = Match(bag)
-        _, _, series = m.score_series()
-        m.bag.close()
-        return (series[-1][1], series[-1][2]) if series else None
-    except Exception:
-        return None
 
 
 if __name__ == '__main__':

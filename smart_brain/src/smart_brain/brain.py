@@ -225,7 +225,9 @@ class Brain(object):
 
     def _resume_match(self, saved):
         """A brain respawned mid-match: the match goes on from when it started."""
-        if clock.simulated():  # the first /clock: before it ROS time reads 0
+        if clock.simulated():
+            # The first /clock: before it ROS time reads 0, so this wait cannot be measured in
+            # ROS time; it is a process starting up, bounded on the wall clock (as wait_for_devices).
             deadline = time.monotonic() + 5.0
             while rospy.get_time() <= 0.0 and time.monotonic() < deadline and not rospy.is_shutdown():
                 time.sleep(0.01)
