@@ -21,11 +21,12 @@ bool parseResampling(const std::string& name, CParticleFilter::TParticleResampli
 }
 
 Filter::Filter(const FilterConfig& cfg, std::shared_ptr<TableModel> table)
-    : cfg_(cfg), table_(std::move(table)), rng_(cfg.seed) {
+    : cfg_(cfg), table_(std::move(table)), rng_(cfg.seed), clustering_(cfg.cluster_bin_xy, cfg.cluster_bin_theta) {
   if (!table_) throw std::invalid_argument("filter: a table model is needed");
   if (cfg_.max_particles < 1) throw std::invalid_argument("max_particles must be >= 1");
   if (cfg_.min_particles < 1 || cfg_.min_particles > cfg_.max_particles)
     throw std::invalid_argument("min_particles must be in [1, max_particles]");
+  if (!(cfg_.cluster_bin_xy > 0.0 && cfg_.cluster_bin_theta > 0.0)) throw std::invalid_argument("cluster bins must be > 0");
   if (!(cfg_.ess_threshold >= 0.0 && cfg_.ess_threshold <= 1.0)) throw std::invalid_argument("ess_threshold must be in [0, 1]");
   if (!(cfg_.alpha_slow > 0.0 && cfg_.alpha_slow < cfg_.alpha_fast && cfg_.alpha_fast <= 1.0))
     throw std::invalid_argument("need 0 < alpha_slow < alpha_fast <= 1");
@@ -280,20 +281,35 @@ void Filter::computeEstimate() {
   if (!(sw > 0.0)) return;
   const double mx = sx / sw, my = sy / sw, mt = st / sw;
   Estimate& e = estimate_;
-  e.cov[0] = std::max(0.0, sxx / sw - mx * mx);
-  e.cov[4] = std::max(0.0, syy / sw - my * my);
-  e.cov[8] = std::max(0.0, stt / sw - mt * mt);
-  e.cov[1] = e.cov[3] = sxy / sw - mx * my;
-  e.cov[2] = e.cov[6] = sxt / sw - mx * mt;
-  e.cov[5] = e.cov[7] = syt / sw - my * mt;
-  double x = mx, y = my;
+  auto& c = e.set_cov;
+  c[0] = std::max(0.0, sxx / sw - mx * mx);
+  c[4] = std::max(0.0, syy / sw - my * my);
+  c[8] = std::max(0.0, stt / sw - mt * mt);
+  c[1] = c[3] = sxy / sw - mx * my;
+  c[2] = c[6] = sxt / sw - mx * mt;
+  c[5] = c[7] = syt / sw - my * mt;
+  Pose2D mean{mx, my, wrapAngle(ref + mt)};
+  e.cov = c;
+  e.cluster_weight = 1.0;
+  e.clusters = 1;
+  // A set narrower than one cell is one cluster: the clustering is only paid for when spread.
+  const double bxy = cfg_.cluster_bin_xy, bth = cfg_.cluster_bin_theta;
+  if (c[0] > bxy * bxy || c[4] > bxy * bxy || c[8] > bth * bth) {
+    const ClusterStats best = clustering_.heaviest(set_);
+    mean = best.mean;
+    e.cov = best.cov;
+    e.cluster_weight = best.weight;
+    e.clusters = clustering_.count();
+  }
+  double x = mean.x, y = mean.y;
   table_->project(x, y);  // the final estimate is possible too
-  e.pose = {x, y, wrapAngle(ref + mt)};
+  e.pose = {x, y, mean.theta};
   e.particles = n;
   e.ess = set_.ESS() * static_cast<double>(n);
 
-  const double var_xy = 0.5 * (e.cov[0] + e.cov[4]);
-  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && e.cov[8] < 0.04) {
+  // Found again once the whole set converged, not merely its heaviest cluster.
+  const double var_xy = 0.5 * (e.set_cov[0] + e.set_cov[4]);
+  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && e.set_cov[8] < 0.04) {
     lost_ = false;
     p_track_ = 0.5;  // converged: whether on the right pose, the next measurements tell
   }
@@ -304,7 +320,7 @@ void Filter::computeEstimate() {
   const double tol2 = cfg_.quality_tolerance * cfg_.quality_tolerance;
   double inside = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double dx = px[i] - mx, dy = py[i] - my;
+    const double dx = px[i] - mean.x, dy = py[i] - mean.y;
     if (dx * dx + dy * dy <= tol2) inside += w[i];
   }
   e.tracking = p_track_;

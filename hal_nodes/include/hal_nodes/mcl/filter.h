@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "hal_nodes/mcl/checks/table_model.h"
+#include "hal_nodes/mcl/clusters.h"
 #include "hal_nodes/mcl/input.h"
 #include "hal_nodes/mcl/kld.h"
 #include "hal_nodes/mcl/particle_set.h"
@@ -70,6 +71,9 @@ struct FilterConfig {
   double contradiction_window = 1.0;   // [s]
   std::size_t contradiction_count = 10;
   double roughen_nis = 2.0;            // median above it (not yet lost): roughen the set meanwhile
+  // The estimate is the heaviest cluster's (clusters.h) once the set spreads wider than one cell.
+  double cluster_bin_xy = 0.10;    // [m]
+  double cluster_bin_theta = 0.20; // [rad]
   uint64_t seed = 1;
 };
 
@@ -77,8 +81,11 @@ struct FilterConfig {
 bool parseResampling(const std::string& name, mrpt::bayes::CParticleFilter::TParticleResamplingAlgorithm* out);
 
 struct Estimate {
-  Pose2D pose;
-  std::array<double, 9> cov{};   // x, y, theta (row-major)
+  Pose2D pose;                   // the heaviest particle cluster's weighted mean
+  std::array<double, 9> cov{};   // x, y, theta (row-major): that cluster's covariance
+  std::array<double, 9> set_cov{};  // the whole set's (what amcl reports; wrong when multimodal)
+  double cluster_weight = 1.0;   // the cluster's share of the set's weight
+  std::size_t clusters = 1;
   // That the estimate is within quality_tolerance of the truth: P(the filter tracks the true
   // pose | the measurements' evidence) x the cloud's mass within quality_tolerance of the estimate.
   double probability = 0.0;
@@ -142,6 +149,7 @@ class Filter : private ParticleSet::Hooks {
   std::vector<std::shared_ptr<PoseSampler>> samplers_;
   StepContext ctx_;
   Estimate estimate_;
+  Clustering clustering_;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   double p_track_ = 0.0;          // P(tracking the true pose), a two-state Bayes filter on the evidence
   std::size_t monitored_ = 0;     // monitored measurements since the last (re)start

@@ -5,12 +5,19 @@
 // wheels; deactivation commands zero at once and ignores cmd_vel until reactivated.
 // Commands are sent at ~rate even when they do not change, so the boards' own command
 // timeouts never stop a robot that is being driven, and do stop one whose HAL died.
+// Teleop: a top-level /cmd_vel (teleop_twist_keyboard, joy's teleop_twist_joy, rqt) drives the
+// base too, at a lower priority: only while ~cmd_vel (the brain, the driver) has been quiet for
+// ~cmd_timeout, each teleop command for ~teleop_timeout (diff_drive_controller's
+// cmd_vel_timeout), and never during a match: from the start (the latched /effectors/match_end
+// the brain publishes) until its end. A stranger's cmd_vel must not steer a robot in a match.
 //
 // Parameters (besides ~rate):
 //   ~track_width       [m] required, > 0 (distance between the driven wheels)
 //   ~max_wheel_speed   [m/s] required, > 0; faster commands are scaled down keeping the curvature
 //   ~max_acceleration  [m/s^2] per wheel, 0 = none (default 0)
 //   ~cmd_timeout       [s] (default 0.3)
+//   ~teleop_topic      (default /cmd_vel; "" disables teleop)
+//   ~teleop_timeout    [s] (default 0.5)
 //   ~wheels/<name>/    one block per motor:
 //       side           left | right
 //       topic          the board's command topic (/hcl/<board>/motor/<motor>/command), required
@@ -19,8 +26,10 @@
 //       max_value      clamp of the native value, > 0 (required)
 #include <geometry_msgs/Twist.h>
 #include <hcl_drivers/MotorCommand.h>
+#include <std_msgs/Time.h>
 
 #include <cmath>
+#include <mutex>
 
 #include "hal_nodes/device_nodelet.h"
 #include <robot_core/parameter_blocks.h>
@@ -60,13 +69,25 @@ class DifferentialDrive : public Effector {
     if (!has_left || !has_right)
       throw ParameterError("parameter " + qualified(ctx.pnh, "wheels") + " needs at least one wheel with side: left and one with side: right");
     cmd_ = addInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel", Wake::kOnArrival);
+    teleop_timeout_ = optionalDouble(ctx.pnh, "teleop_timeout", 0.5);
+    requirePositive(ctx.pnh, "teleop_timeout", teleop_timeout_);
+    const std::string teleop_topic = optionalString(ctx.pnh, "teleop_topic", "/cmd_vel");
+    if (!teleop_topic.empty()) {
+      teleop_ = addInput<geometry_msgs::Twist>(ctx.nh, teleop_topic, "teleop", Wake::kOnArrival);
+      match_end_sub_ = ctx.nh.subscribe<std_msgs::Time>("/effectors/match_end", 1, [this](const std_msgs::Time::ConstPtr& m) {
+        std::lock_guard<std::mutex> lk(match_mutex_);
+        match_end_ = m->data;
+      });
+    }
     period_ = 1.0 / ctx.rate;
   }
 
   void refresh() override {
     setAvailable();  // the drive needs no input to be safe: no command means stop
     if (!active()) return;
-    const auto cmd = cmd_->fresh(cmd_timeout_);
+    auto cmd = cmd_->fresh(cmd_timeout_);
+    source_ = cmd ? "cmd_vel" : "none";
+    if (!cmd && teleop_) cmd = teleopCommand();
     WheelSpeeds target;  // no fresh command: stop (ramped, like any deceleration)
     if (cmd) {
       target = wheelSpeeds(cmd->linear.x, cmd->angular.z, track_width_, max_wheel_speed_);
@@ -97,6 +118,11 @@ class DifferentialDrive : public Effector {
     stat.addf("left wheel [m/s]", "%.3f", current_.left);
     stat.addf("right wheel [m/s]", "%.3f", current_.right);
     stat.add("command timeouts", timeouts_);
+    stat.add("driven by", source_);
+    if (teleop_) {
+      stat.add("teleop commands used", teleop_used_);
+      stat.add("teleop commands ignored in a match", teleop_ignored_);
+    }
   }
 
  private:
@@ -107,6 +133,29 @@ class DifferentialDrive : public Effector {
     int max_value = 0;
     ros::Publisher pub;
   };
+
+  // The newest teleop command if it is fresh and no match runs (the brain and the driver are
+  // quiet: the caller asked ~cmd_vel first).
+  geometry_msgs::Twist::ConstPtr teleopCommand() {
+    auto t = teleop_->fresh(teleop_timeout_);
+    if (!t) return t;
+    const unsigned long n = teleop_->received();
+    const bool first_look = n != last_teleop_;  // each message counted once
+    last_teleop_ = n;
+    ros::Time end;
+    {
+      std::lock_guard<std::mutex> lk(match_mutex_);
+      end = match_end_;
+    }
+    if (!end.isZero() && ros::Time::now() < end) {
+      if (first_look) ++teleop_ignored_;
+      ROS_WARN_THROTTLE(5.0, "drive: %s ignored: a match is in progress", teleop_->topic().c_str());
+      return nullptr;
+    }
+    if (first_look) ++teleop_used_;
+    source_ = "teleop";
+    return t;
+  }
 
   void send(const WheelSpeeds& s) {
     const ros::Time now = ros::Time::now();
@@ -120,7 +169,14 @@ class DifferentialDrive : public Effector {
   }
 
   std::vector<Motor> motors_;
-  std::shared_ptr<LatestValue<geometry_msgs::Twist>> cmd_;
+  std::shared_ptr<LatestValue<geometry_msgs::Twist>> cmd_, teleop_;
+  ros::Subscriber match_end_sub_;
+  std::mutex match_mutex_;
+  ros::Time match_end_;     // the running match's end (zero: no match armed)
+  unsigned long last_teleop_ = 0;
+  unsigned long teleop_used_ = 0, teleop_ignored_ = 0;
+  std::string source_ = "none";
+  double teleop_timeout_ = 0.5;
   WheelSpeeds current_;
   double track_width_ = 0.0, max_wheel_speed_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
   unsigned long timeouts_ = 0;

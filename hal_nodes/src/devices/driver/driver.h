@@ -5,6 +5,9 @@
 //   follow_path  checkpoints joined by cubic Hermite segments (driver/hermite_path.h,
 //                driver/path_follower.h); ~path_edit (hal_nodes/PathEdit) changes the
 //                checkpoints ahead while it runs; the curve is published on ~path (nav_msgs/Path)
+// move_base's interface drives the same goto: the action /move_base (move_base_msgs/MoveBaseAction,
+// target_pose in the map frame) and /move_base_simple/goal (rviz's "2D Nav Goal"), as move_base
+// does it: the simple goal becomes a goal of the /move_base action (driver_move_base.cpp).
 // It commands geometry_msgs/Twist on ~cmd_vel_topic (/hal/drive/cmd_vel) only while a goal
 // runs; refresh() at ~rate is the control loop. One goal at a time: a goal on any action
 // preempts the running one.
@@ -57,6 +60,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <geometry_msgs/PoseStamped.h>
+#include <move_base_msgs/MoveBaseAction.h>
+
 #include <deque>
 #include <map>
 
@@ -168,7 +174,13 @@ class Driver : public Effector {
 
   bool refuseIfInactive();
   bool refuseUntilLocalized();
-  void startGoto(const GotoGoal& g);
+  void startGoto(const GotoGoal& g, bool from_move_base = false);
+  // move_base's interface (driver_move_base.cpp): its goal becomes a goto of ours.
+  void startMoveBaseServer(ros::NodeHandle& nh);
+  void startMoveBase(const move_base_msgs::MoveBaseGoal& g);
+  void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& goal);
+  void endMoveBase(uint8_t code, const std::string& message, bool success);
+  void publishMoveBaseFeedback(const Pose2D& pose);
   void startStraight(const GoStraightGoal& g);
   void startRotate(const RotateByGoal& g);
   void startPath(const FollowPathGoal& g);
@@ -249,6 +261,10 @@ class Driver : public Effector {
   std::unique_ptr<actionlib::SimpleActionServer<GoStraightAction>> straight_as_;
   std::unique_ptr<actionlib::SimpleActionServer<RotateByAction>> rotate_as_;
   std::unique_ptr<actionlib::SimpleActionServer<FollowPathAction>> path_as_;
+  std::unique_ptr<actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>> move_base_;
+  bool goto_from_move_base_ = false;  // the running goto is a /move_base goal
+  ros::Publisher move_base_goal_pub_;
+  ros::Subscriber simple_goal_sub_;
 
   std::shared_ptr<LatestValue<geometry_msgs::PoseWithCovarianceStamped>> pose_;
   std::shared_ptr<LatestValue<LocalizationQuality>> quality_;

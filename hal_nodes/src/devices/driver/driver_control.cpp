@@ -103,7 +103,8 @@ void Driver::publishGotoFeedback() {
   f.phase = waiting_.empty() ? Autopilot::phaseName(autopilot_.phase()) : "holding";
   f.avoidance = avoidanceNow();
   f.waiting = waiting_;
-  goto_->publishFeedback(f);
+  if (goto_from_move_base_) publishMoveBaseFeedback(pose);
+  else goto_->publishFeedback(f);
 }
 
 void Driver::stepRelative(const Pose2D& pose, double dt) {
@@ -279,7 +280,8 @@ void Driver::finish(uint8_t code, const std::string& message, bool success) {
       }
       r.avoidance = avoidanceSummary();
       r.detours = detours_;
-      end(*goto_, r);
+      if (goto_from_move_base_) endMoveBase(code, message, success);
+      else end(*goto_, r);
       break;
     }
     case Mode::STRAIGHT: {

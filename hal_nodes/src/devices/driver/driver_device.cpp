@@ -24,6 +24,7 @@ void Driver::init(DeviceContext& ctx) {
   cmd_pub_ = ctx.nh.advertise<geometry_msgs::Twist>(settings_.cmd_vel_topic, 1);
   path_pub_ = ctx.pnh.advertise<nav_msgs::Path>("path", 1, true);
   startActionServers(ctx.pnh);
+  startMoveBaseServer(ctx.nh);
 }
 
 // Localization, odometry, the drive effector's status, path edits, and for avoidance the rangers

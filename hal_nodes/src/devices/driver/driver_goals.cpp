@@ -5,7 +5,7 @@ namespace hal_nodes {
 
 bool Driver::preemptRequested() const {
   switch (mode_) {
-    case Mode::GOTO: return goto_->isPreemptRequested();
+    case Mode::GOTO: return goto_from_move_base_ ? move_base_->isPreemptRequested() : goto_->isPreemptRequested();
     case Mode::STRAIGHT: return straight_as_->isPreemptRequested();
     case Mode::ROTATE: return rotate_as_->isPreemptRequested();
     case Mode::PATH: return path_as_->isPreemptRequested();
@@ -15,7 +15,14 @@ bool Driver::preemptRequested() const {
 }
 
 void Driver::acceptNewGoals() {
-  if (goto_->isNewGoalAvailable()) startGoto(*goto_->acceptNewGoal());
+  if (goto_->isNewGoalAvailable()) {
+    if (mode_ == Mode::GOTO && goto_from_move_base_) finish(CANCELED, "preempted by a new goal", false);
+    startGoto(*goto_->acceptNewGoal());
+  }
+  if (move_base_->isNewGoalAvailable()) {
+    if (mode_ == Mode::GOTO && !goto_from_move_base_) finish(CANCELED, "preempted by a new goal", false);
+    startMoveBase(*move_base_->acceptNewGoal());
+  }
   if (straight_as_->isNewGoalAvailable()) startStraight(*straight_as_->acceptNewGoal());
   if (rotate_as_->isNewGoalAvailable()) startRotate(*rotate_as_->acceptNewGoal());
   if (path_as_->isNewGoalAvailable()) startPath(*path_as_->acceptNewGoal());
@@ -166,8 +173,9 @@ bool Driver::refuseUntilLocalized() {
   return false;
 }
 
-void Driver::startGoto(const GotoGoal& g) {
+void Driver::startGoto(const GotoGoal& g, bool from_move_base) {
   takeOver(Mode::GOTO);
+  goto_from_move_base_ = from_move_base;  // which server a refusal below answers
   if (refuseIfInactive() || refuseUntilLocalized()) return;
   if (!finite({g.x, g.y, g.angle, g.position_tolerance, g.angle_tolerance, g.max_speed, g.timeout}) ||
       g.position_tolerance < 0 || g.angle_tolerance < 0 || g.max_speed < 0 || g.timeout < 0)

@@ -10,12 +10,15 @@
 // estimate goes out carried forward to that odometry (carried_pose.h): fresh, and still the same
 // at the same stamp in a replay.
 //
-// Outputs: /mcl/pose (geometry_msgs/PoseWithCovarianceStamped), /mcl/quality
+// Outputs: /mcl/pose (geometry_msgs/PoseWithCovarianceStamped: the heaviest particle cluster's
+// mean and covariance, mcl/clusters.h), /mcl/quality
 // (hal_nodes/LocalizationQuality: probability the estimate is right, lost flag), /mcl/particlecloud
 // (geometry_msgs/PoseArray), /mcl/beacon_belts (visualization_msgs/MarkerArray), tf map -> odom
 // (REP-105, from the estimate and /odom's odom -> base_link at the same stamp). The pose, quality
 // and tf carry the stamp of the newest odometry received; the particle cloud and the belts that of
 // the newest odometry applied: the time the particles' motion refers to.
+// amcl's interface beside ours: /amcl_pose (latched), /particlecloud, the services
+// /global_localization and /request_nomotion_update (std_srvs/Empty).
 // In: /initialpose (rviz "2D Pose Estimate"); service ~global_localization (std_srvs/Empty).
 //
 // Parameters (besides ~rate; all optional, defaults in brackets):
@@ -27,6 +30,8 @@
 //   ~contradiction_nis [9] ~contradiction_window [1 s] ~contradiction_count [10]: lost (kidnap) when
 //             the median normalized innovation of the last window's measurements is above it;
 //             ~roughen_nis [2]: above this median the set is roughened (a slip to catch up with)
+//   ~cluster_bin_xy [0.10 m] ~cluster_bin_theta [0.20 rad]: the grid the cloud is clustered on
+//             when it spreads wider than one cell (the estimate is then the heaviest cluster's)
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
 //   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
@@ -119,11 +124,24 @@ class LocalizationDevice : public Device {
     outputs_ = std::make_unique<LocalizationOutputs>(nh_, c);
     initial_sub_ = nh_.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
         "/initialpose", 2, [this](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) { onInitialPose(*m); });
-    global_srv_ = ctx.pnh.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
-        "global_localization", [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    // Ours under the device's name, and amcl's names beside it.
+    auto global = [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+      std::lock_guard<std::mutex> lk(filter_mutex_);
+      filter_->globalLocalization();
+      ROS_INFO("%s: global localization: particles spread over the free table", name_.c_str());
+      return true;
+    };
+    global_srv_ = ctx.pnh.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>("global_localization", global);
+    amcl_global_srv_ = nh_.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>("/global_localization", global);
+    // amcl's request_nomotion_update: an update without motion, and the particles published.
+    // The filter applies every measurement even standing still (amcl waits for motion), so this
+    // is one step now with what the inputs hold, and the cloud out at once.
+    nomotion_srv_ = nh_.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
+        "/request_nomotion_update", [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
           std::lock_guard<std::mutex> lk(filter_mutex_);
-          filter_->globalLocalization();
-          ROS_INFO("%s: global localization: particles spread over the free table", name_.c_str());
+          if (last_step_ > 0.0) filter_->update(last_step_);
+          force_cloud_ = true;
+          published_stamp_ = -1e300;  // the next refresh publishes, even with no new odometry
           return true;
         });
   }
@@ -166,11 +184,14 @@ class LocalizationDevice : public Device {
                                   : filter_->estimate().pose;
         if (stamp != published_stamp_) {
           published_stamp_ = stamp;
-          outputs_->publish(stamp, pose, *filter_, odom_stamp_, &odom_pose_, beacons_.get(), last_step_);
+          outputs_->publish(stamp, pose, *filter_, odom_stamp_, &odom_pose_, beacons_.get(), last_step_, force_cloud_);
+          force_cloud_ = false;
         }
       } else if (steps > 0 && last_step_ != published_stamp_) {  // measurements without odometry
         published_stamp_ = last_step_;
-        outputs_->publish(last_step_, filter_->estimate().pose, *filter_, last_step_, nullptr, beacons_.get(), last_step_);
+        outputs_->publish(last_step_, filter_->estimate().pose, *filter_, last_step_, nullptr, beacons_.get(), last_step_,
+                          force_cloud_);
+        force_cloud_ = false;
       }
     }
     savePoseIfDue();
@@ -192,6 +213,8 @@ class LocalizationDevice : public Device {
     stat.add("lost", e.lost);
     stat.add("particles", e.particles);
     stat.add("effective sample size", e.ess);
+    stat.add("clusters", e.clusters);
+    stat.add("estimate's cluster share of the weight", e.cluster_weight);
     stat.add("filter steps", updates_);
     stat.add("resamplings", filter_->resamplings());
     stat.add("resets (sensor resetting)", filter_->resets());
@@ -400,7 +423,8 @@ class LocalizationDevice : public Device {
   double latency_ = 0.05;
   std::vector<ros::Subscriber> subs_;
   ros::Subscriber initial_sub_;
-  ros::ServiceServer global_srv_;
+  ros::ServiceServer global_srv_, amcl_global_srv_, nomotion_srv_;
+  bool force_cloud_ = false;  // request_nomotion_update: the cloud with the next publication
   ros::NodeHandle pnh_;
   double save_pose_period_ = 0.0;
   double last_saved_ = -1e9;

@@ -38,11 +38,13 @@ LocalizationOutputs::LocalizationOutputs(ros::NodeHandle& nh, const Localization
   quality_pub_ = nh.advertise<LocalizationQuality>("/mcl/quality", 10);
   cloud_pub_ = nh.advertise<geometry_msgs::PoseArray>("/mcl/particlecloud", 1);
   belts_pub_ = nh.advertise<visualization_msgs::MarkerArray>("/mcl/beacon_belts", 1);
+  amcl_pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("/amcl_pose", 2, true);
+  amcl_cloud_pub_ = nh.advertise<geometry_msgs::PoseArray>("/particlecloud", 1);
 }
 
 void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const mcl::Filter& filter,
                                   double filter_stamp, const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons,
-                                  double last_step) {
+                                  double last_step, bool force_cloud) {
   const auto& e = filter.estimate();
   const ros::Time stamp(at);
   geometry_msgs::PoseWithCovarianceStamped pose;
@@ -53,6 +55,7 @@ void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const m
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) pose.pose.covariance[idx[r] * 6 + idx[c]] = e.cov[r * 3 + c];
   pose_pub_.publish(pose);
+  amcl_pose_pub_.publish(pose);
 
   LocalizationQuality q;
   q.header = pose.header;
@@ -78,19 +81,23 @@ void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const m
     tf_.sendTransform(t);
   }
 
-  if (filter_stamp - last_cloud_ >= cloud_period_) {
+  if (force_cloud || filter_stamp - last_cloud_ >= cloud_period_) {
     last_cloud_ = filter_stamp;
-    if (cloud_pub_.getNumSubscribers() > 0) {
-      const auto& s = filter.particles();
-      geometry_msgs::PoseArray cloud;
-      cloud.header.stamp = ros::Time(filter_stamp);  // the particles are not carried forward
-      cloud.header.frame_id = map_frame_;
-      cloud.poses.reserve(s.size());
-      for (std::size_t i = 0; i < s.size(); ++i) cloud.poses.push_back(toMsg({s.x[i], s.y[i], s.theta[i]}));
-      cloud_pub_.publish(cloud);
-    }
+    // The particles are not carried forward: the cloud is dated by the applied odometry.
+    publishCloud(ros::Time(filter_stamp), filter.particles());
     if (beacons && belts_pub_.getNumSubscribers() > 0) publishBelts(ros::Time(filter_stamp), *beacons, last_step);
   }
+}
+
+void LocalizationOutputs::publishCloud(const ros::Time& stamp, const mcl::ParticleSet& s) {
+  if (cloud_pub_.getNumSubscribers() == 0 && amcl_cloud_pub_.getNumSubscribers() == 0) return;
+  geometry_msgs::PoseArray cloud;
+  cloud.header.stamp = stamp;
+  cloud.header.frame_id = map_frame_;
+  cloud.poses.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) cloud.poses.push_back(toMsg({s.x[i], s.y[i], s.theta[i]}));
+  if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(cloud);
+  if (amcl_cloud_pub_.getNumSubscribers() > 0) amcl_cloud_pub_.publish(cloud);
 }
 
 void LocalizationOutputs::publishBelts(const ros::Time& stamp, const mcl::BeaconBelts& beacons, double last_step) {

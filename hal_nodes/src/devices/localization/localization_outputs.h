@@ -1,5 +1,7 @@
 // What the Localization device publishes for each new odometry: /mcl/pose, /mcl/quality, tf
 // map -> odom (REP-105), and at ~cloud_rate the particle cloud and the beacon belts for rviz.
+// amcl's names beside ours, for the tools and scripts written for amcl: /amcl_pose (latched, as
+// amcl's) is /mcl/pose, /particlecloud is /mcl/particlecloud.
 #pragma once
 
 #include <geometry_msgs/Pose.h>
@@ -20,10 +22,13 @@ class LocalizationOutputs {
   // The filter itself stands at `filter_stamp` (the applied odometry's stamp), where `odom_pose`
   // is odom -> base_link, for map -> odom (none: no tf). `beacons` may be null; `last_step`
   // dates the belts.
+  // `force_cloud`: the particle cloud now, whatever ~cloud_rate says (request_nomotion_update).
   void publish(double at, const mcl::Pose2D& pose, const mcl::Filter& filter, double filter_stamp,
-               const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons, double last_step);
+               const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons, double last_step,
+               bool force_cloud = false);
 
  private:
+  void publishCloud(const ros::Time& stamp, const mcl::ParticleSet& set);
   // One circle per beacon whose latest range is recent: the belt the particles are weighed by.
   void publishBelts(const ros::Time& stamp, const mcl::BeaconBelts& beacons, double last_step);
 
@@ -31,7 +36,7 @@ class LocalizationOutputs {
   bool publish_tf_;
   double tf_tolerance_, cloud_period_;
   double last_cloud_ = -1e300;
-  ros::Publisher pose_pub_, quality_pub_, cloud_pub_, belts_pub_;
+  ros::Publisher pose_pub_, quality_pub_, cloud_pub_, belts_pub_, amcl_pose_pub_, amcl_cloud_pub_;
   tf2_ros::TransformBroadcaster tf_;
 };
 

@@ -1,0 +1,54 @@
+// The particle cluster an estimate comes from. A multimodal cloud (two places the beacons
+// cannot tell apart, a kidnap half recovered) has a meaningless overall mean and a covariance
+// that describes the gap between its modes, not the uncertainty of any one of them: amcl and
+// mrpt_localization report that whole-set covariance. Here the particles are binned on a grid
+// (x, y, heading, the heading wrapping round), occupied cells touching each other (26
+// neighbours) form one cluster, and the estimate is the heaviest cluster's weighted mean and
+// covariance, as amcl picks its pose from its heaviest kd-tree cluster.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "hal_nodes/mcl/particle_set.h"
+#include "hal_nodes/mcl/pose.h"
+
+namespace hal_nodes::mcl {
+
+struct ClusterStats {
+  Pose2D mean;
+  std::array<double, 9> cov{};  // x, y, theta (row-major), heading relative to the mean
+  double weight = 0.0;          // share of the set's weight, in [0, 1]
+  std::size_t particles = 0;
+};
+
+// Weighted mean and covariance of the particles whose index `keep` says (all when null); the
+// heading is averaged around its circular mean, so a cluster across +-pi is not torn apart.
+ClusterStats weightedStats(const ParticleSet& set, const std::vector<int>* labels = nullptr, int keep = 0);
+
+class Clustering {
+ public:
+  Clustering(double bin_xy, double bin_theta);
+  // The heaviest cluster of the set. Reuses its buffers: no allocation once warmed up.
+  ClusterStats heaviest(const ParticleSet& set);
+  // How many clusters the last call found.
+  std::size_t count() const { return clusters_; }
+
+ private:
+  int find(int cell);
+  std::int64_t key(long ix, long iy, long it) const;
+
+  double bin_xy_, bin_theta_;
+  long theta_cells_;
+  std::unordered_map<std::int64_t, int> cells_;  // cell key -> cell index
+  std::vector<int> parent_;                      // union-find over cells
+  std::vector<long> cx_, cy_, ct_;               // each cell's coordinates
+  std::vector<int> particle_cell_, labels_;
+  std::vector<double> cluster_weight_;
+  std::size_t clusters_ = 0;
+};
+
+}  // namespace hal_nodes::mcl
