@@ -9,6 +9,7 @@ import unittest
 
 import rospy
 import rostest
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool, Int16MultiArray, UInt8MultiArray
 from test_support import Recorder, wait_for
@@ -24,6 +25,7 @@ class JoystickJsEventTest(unittest.TestCase):
         rospy.init_node('test_brain_joystick_js')
         cls.cmd = Recorder('/hal/drive/cmd_vel', Twist, queue_size=200)
         cls.deactivated = Recorder('/effectors/deactivated', Bool, queue_size=200)
+        cls.diagnostics = Recorder('/diagnostics', DiagnosticArray, queue_size=1000)
         cls.axes = rospy.Publisher('/sim/js/axes', Int16MultiArray, queue_size=10)
         cls.buttons = rospy.Publisher('/sim/js/buttons', UInt8MultiArray, queue_size=10)
         assert wait_for(lambda: cls.axes.get_num_connections() and cls.buttons.get_num_connections(), 40.0, step=0.02), \
@@ -64,6 +66,36 @@ class JoystickJsEventTest(unittest.TestCase):
         self.pad()
         self.pad(buttons=(START,))
         self.assertTrue(wait_for(lambda: not self.deactivated.last().data, 3.0, step=0.02), 'start did not activate them')
+        self.pad()
+
+
+    def test_4_a_pad_unplugged_while_driving_stops_the_robot_and_replugging_drives_again(self):
+        from diagnostic_msgs.msg import DiagnosticStatus
+        from std_srvs.srv import SetBool
+        max_age = rospy.get_param('/brain/joystick/max_age')
+        rospy.wait_for_service('/sim/js/plugged', 10.0)
+        plug = rospy.ServiceProxy('/sim/js/plugged', SetBool)
+        self.pad(left_y=-32767, buttons=(LB,))
+        self.assertTrue(wait_for(lambda: abs(self.cmd.last().linear.x - 0.5) < 0.01, 3.0, step=0.02))
+        t0 = time.monotonic()
+        self.assertTrue(plug(False).success)
+        # Stopped within the brain's command timeout (its ~joystick/max_age) of the unplug.
+        self.assertTrue(wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.messages(t0)), max_age, step=0.01),
+                        'still driving %.1f s after the pad was unplugged: %s' % (max_age, self.cmd.last()))
+        # ... and /diagnostics names the pad.
+        self.assertTrue(wait_for(lambda: any(s.level >= DiagnosticStatus.ERROR and 'joystick' in s.name and
+                                             ('unplugged' in s.message or 'hung up' in s.message)
+                                             for _, arr in self.diagnostics.since(t0) for s in arr.status), 3.0),
+                        'no ERROR on /diagnostics naming the unplugged pad')
+        time.sleep(0.5)
+        t1 = time.monotonic()
+        time.sleep(0.5)
+        self.assertTrue(all(m.linear.x == 0.0 for m in self.cmd.messages(t1)), 'drove with the pad unplugged')
+        # Plugged back in (no restart): the kernel's init events give the held stick, and it drives.
+        self.assertTrue(plug(True).success)
+        self.pad(left_y=-32767, buttons=(LB,))
+        self.assertTrue(wait_for(lambda: abs(self.cmd.last().linear.x - 0.5) < 0.01, 5.0, step=0.02),
+                        'the replugged pad does not drive: %s' % self.cmd.last())
         self.pad()
 
 

@@ -87,7 +87,10 @@ class DifferentialDrive : public Effector {
     if (!active()) return;
     auto cmd = cmd_->fresh(cmd_timeout_);
     source_ = cmd ? "cmd_vel" : "none";
-    if (!cmd && teleop_) cmd = teleopCommand();
+    if (teleop_) {
+      auto teleop = teleopCommand(cmd != nullptr);
+      if (!cmd) cmd = teleop;
+    }
     WheelSpeeds target;  // no fresh command: stop (ramped, like any deceleration)
     if (cmd) {
       target = wheelSpeeds(cmd->linear.x, cmd->angular.z, track_width_, max_wheel_speed_);
@@ -121,6 +124,7 @@ class DifferentialDrive : public Effector {
     stat.add("driven by", source_);
     if (teleop_) {
       stat.add("teleop commands used", teleop_used_);
+      stat.add("teleop commands overridden by cmd_vel", teleop_overridden_);
       stat.add("teleop commands ignored in a match", teleop_ignored_);
     }
   }
@@ -134,13 +138,11 @@ class DifferentialDrive : public Effector {
     ros::Publisher pub;
   };
 
-  // The newest teleop command if it is fresh and no match runs (the brain and the driver are
-  // quiet: the caller asked ~cmd_vel first).
-  geometry_msgs::Twist::ConstPtr teleopCommand() {
-    auto t = teleop_->fresh(teleop_timeout_);
-    if (!t) return t;
+  // The newest teleop command if it is fresh, ~cmd_vel is quiet and no match runs. Every teleop
+  // message is counted once: used, overridden by ~cmd_vel, or ignored in a match.
+  geometry_msgs::Twist::ConstPtr teleopCommand(bool commanded) {
     const unsigned long n = teleop_->received();
-    const bool first_look = n != last_teleop_;  // each message counted once
+    const unsigned long arrived = n - last_teleop_;
     last_teleop_ = n;
     ros::Time end;
     {
@@ -148,11 +150,19 @@ class DifferentialDrive : public Effector {
       end = match_end_;
     }
     if (!end.isZero() && ros::Time::now() < end) {
-      if (first_look) ++teleop_ignored_;
-      ROS_WARN_THROTTLE(5.0, "drive: %s ignored: a match is in progress", teleop_->topic().c_str());
+      if (arrived > 0) {
+        teleop_ignored_ += arrived;
+        ROS_WARN_THROTTLE(5.0, "drive: %s ignored: a match is in progress", teleop_->topic().c_str());
+      }
       return nullptr;
     }
-    if (first_look) ++teleop_used_;
+    if (commanded) {
+      teleop_overridden_ += arrived;
+      return nullptr;
+    }
+    auto t = teleop_->fresh(teleop_timeout_);
+    if (!t) return t;
+    teleop_used_ += arrived;
     source_ = "teleop";
     return t;
   }
@@ -174,7 +184,7 @@ class DifferentialDrive : public Effector {
   std::mutex match_mutex_;
   ros::Time match_end_;     // the running match's end (zero: no match armed)
   unsigned long last_teleop_ = 0;
-  unsigned long teleop_used_ = 0, teleop_ignored_ = 0;
+  unsigned long teleop_used_ = 0, teleop_ignored_ = 0, teleop_overridden_ = 0;
   std::string source_ = "none";
   double teleop_timeout_ = 0.5;
   WheelSpeeds current_;
