@@ -83,10 +83,11 @@ class JoystickJsEventTest(unittest.TestCase):
         self.assertTrue(wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.messages(t0)), max_age, step=0.01),
                         'still driving %.1f s after the pad was unplugged: %s' % (max_age, self.cmd.last()))
         # ... and /diagnostics names the pad.
-        self.assertTrue(wait_for(lambda: any(s.level >= DiagnosticStatus.ERROR and 'joystick' in s.name and
-                                             ('unplugged' in s.message or 'hung up' in s.message)
-                                             for _, arr in self.diagnostics.since(t0) for s in arr.status), 3.0),
-                        'no ERROR on /diagnostics naming the unplugged pad')
+        def pad_errors():
+            return ['%s: %s' % (s.name, s.message) for _, arr in self.diagnostics.since(t0) for s in arr.status
+                    if s.level >= DiagnosticStatus.ERROR and 'hcl/joystick' in s.name]
+        self.assertTrue(wait_for(pad_errors, 3.0), 'no ERROR on /diagnostics for the unplugged pad')
+        print('unplugged: %s' % sorted(set(pad_errors())))
         time.sleep(0.5)
         t1 = time.monotonic()
         time.sleep(0.5)
@@ -96,6 +97,37 @@ class JoystickJsEventTest(unittest.TestCase):
         self.pad(left_y=-32767, buttons=(LB,))
         self.assertTrue(wait_for(lambda: abs(self.cmd.last().linear.x - 0.5) < 0.01, 5.0, step=0.02),
                         'the replugged pad does not drive: %s' % self.cmd.last())
+        self.pad()
+
+    def test_5_a_pad_that_stops_sending_stops_the_robot(self):
+        """The HCL's joystick board stalls (its process stopped: nothing comes from the pad any
+        more, as with a board whose loop hangs): the HAL device goes stale and says so, the
+        brain stops within its command timeout, and it drives again once the input is back."""
+        import os
+        import signal
+        import rosgraph
+        import xmlrpc.client
+        from diagnostic_msgs.msg import DiagnosticStatus
+        max_age = rospy.get_param('/brain/joystick/max_age')
+        device_age = rospy.get_param('/hal/joystick/max_input_age', 0.5)
+        uri = rosgraph.Master('/test_brain_joystick_js').lookupNode('/hcl')
+        pid = xmlrpc.client.ServerProxy(uri).getPid('/test_brain_joystick_js')[2]
+        self.pad(left_y=-32767, buttons=(LB,))
+        self.assertTrue(wait_for(lambda: abs(self.cmd.last().linear.x - 0.5) < 0.01, 3.0, step=0.02))
+        t0 = time.monotonic()
+        os.kill(pid, signal.SIGSTOP)
+        try:
+            stopped = wait_for(lambda: any(m.linear.x == 0.0 for m in self.cmd.messages(t0)), device_age + max_age, step=0.01)
+            named = wait_for(lambda: any(s.level >= DiagnosticStatus.ERROR and 'hal/joystick' in s.name and
+                                         'no fresh joystick state' in s.message
+                                         for _, arr in self.diagnostics.since(t0) for s in arr.status), 3.0)
+        finally:
+            os.kill(pid, signal.SIGCONT)
+        self.assertTrue(stopped, 'still driving %.1f s after the pad stopped sending: %s' % (device_age + max_age, self.cmd.last()))
+        self.assertTrue(named, 'no ERROR on /diagnostics saying the joystick input is stale')
+        self.pad(left_y=-32767, buttons=(LB,))
+        self.assertTrue(wait_for(lambda: abs(self.cmd.last().linear.x - 0.5) < 0.01, 5.0, step=0.02),
+                        'the pad does not drive once it sends again: %s' % self.cmd.last())
         self.pad()
 
 
