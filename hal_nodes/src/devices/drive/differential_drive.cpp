@@ -28,6 +28,7 @@
 #include <hcl_drivers/MotorCommand.h>
 #include <std_msgs/Time.h>
 
+#include <atomic>
 #include <cmath>
 #include <mutex>
 
@@ -121,7 +122,7 @@ class DifferentialDrive : public Effector {
     stat.addf("left wheel [m/s]", "%.3f", current_.left);
     stat.addf("right wheel [m/s]", "%.3f", current_.right);
     stat.add("command timeouts", timeouts_);
-    stat.add("driven by", source_);
+    stat.add("driven by", std::string(source_.load()));
     if (teleop_) {
       stat.add("teleop commands used", teleop_used_);
       stat.add("teleop commands overridden by cmd_vel", teleop_overridden_);
@@ -185,7 +186,7 @@ class DifferentialDrive : public Effector {
   ros::Time match_end_;     // the running match's end (zero: no match armed)
   unsigned long last_teleop_ = 0;
   unsigned long teleop_used_ = 0, teleop_ignored_ = 0, teleop_overridden_ = 0;
-  std::string source_ = "none";
+  std::atomic<const char*> source_{"none"};  // what drives now; read by diagnose()
   double teleop_timeout_ = 0.5;
   WheelSpeeds current_;
   double track_width_ = 0.0, max_wheel_speed_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
