@@ -50,6 +50,8 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
   can-utils iproute2 socat
 # product: rviz and its headless test (Xvfb + screenshot), the match report's plots
 DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil openssh-server
+# the rviz match panel plugin (match_panel): rviz headers and Qt 5
+DEPS += librviz-dev qtbase5-dev
 # libFuzzer (clang) for the beacon parser fuzz test
 DEPS += clang libclang-rt-14-dev
 # The real SocketCAN test needs a VM on a kernel without AF_CAN: `make test` installs
