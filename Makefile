@@ -52,6 +52,8 @@ DEPS := build-essential cmake catkin python3-catkin-pkg catkin-lint \
 DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil openssh-server
 # the rviz match panel plugin (match_panel): rviz headers and Qt 5
 DEPS += librviz-dev qtbase5-dev
+# ROS users' usual tools and interfaces: tf_echo / view_frames, move_base's action messages
+DEPS += tf-tools python3-tf libmove-base-msgs-dev python3-move-base-msgs
 # libFuzzer (clang) for the beacon parser fuzz test
 DEPS += clang libclang-rt-14-dev
 # The real SocketCAN test needs a VM on a kernel without AF_CAN: `make test` installs
