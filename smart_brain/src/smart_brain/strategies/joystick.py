@@ -3,8 +3,9 @@
 Axes and buttons are the joystick device's names (hal_nodes/JoystickState on
 ~joystick/state_topic, edges as hal_nodes/JoystickEvent on ~joystick/events_topic).
 Config (~joystick): linear_axis, angular_axis, max_linear [m/s], max_angular [rad/s],
-deadman (a button that must be held to drive; '' none), max_age [s] (older pad state:
-zero speed), buttons {button name: callback} with callbacks from CALLBACKS below.
+deadman (a button that must be held to drive; '' none), max_age [s] (pad state older than
+this, by its stamp or since it arrived: zero speed), buttons {button name: callback} with
+callbacks from CALLBACKS below.
 Twists go to /hal/drive/cmd_vel as the pad's states arrive; when the pad goes stale a
 single zero is sent (the drive effector's own command timeout stops the wheels anyway).
 """
@@ -87,7 +88,8 @@ class JoystickStrategy(Strategy):
             self.bindings[button] = CALLBACKS[callback]
         self.slave = BrainSlave()
         self._lock = threading.Lock()
-        self._last_state = None
+        self._last_state = None   # when the last usable state arrived (the brain's clock)
+        self._last_stamp = None   # its stamp (ROS time)
         self._stale_sent = True
         self._stopped = False
         self._Twist = Twist
@@ -119,8 +121,15 @@ class JoystickStrategy(Strategy):
     def _on_state(self, msg):
         if self._stopped:
             return
+        # The pad's data ages from its stamp: HAL republishes the last state it has until that
+        # state is its own max_input_age old, and counting max_age from receiving it would add
+        # the two timeouts. Without a stamp, from its arrival.
+        stamp = None if msg.header.stamp.is_zero() else msg.header.stamp
+        if stamp is not None and (rospy.Time.now() - stamp).to_sec() > self.max_age:
+            return
         with self._lock:
             self._last_state = clock.now()
+            self._last_stamp = stamp
             self._stale_sent = False
         self.publish(*self.command_for(msg))
 
@@ -139,7 +148,8 @@ class JoystickStrategy(Strategy):
         if self._stopped:
             return False
         with self._lock:
-            stale = self._last_state is None or clock.now() - self._last_state > self.max_age
+            stale = (self._last_state is None or clock.now() - self._last_state > self.max_age or
+                     (self._last_stamp is not None and (rospy.Time.now() - self._last_stamp).to_sec() > self.max_age))
             send = stale and not self._stale_sent
             if send:
                 self._stale_sent = True
