@@ -272,6 +272,11 @@ class RosInterfacesTest(unittest.TestCase):
                         % (d, a, spread_of(self.cloud.get())))
 
     def test_7_a_match_in_progress_ignores_cmd_vel(self):
+        # The earlier cases' /cmd_vel has timed out before the start: whatever drives with
+        # teleop from here on does so during the match.
+        before = time.monotonic()
+        self.assertIsNotNone(self.diag.wait_for('hal/drive', lambda s: value(s, 'driven by') != 'teleop', 5.0,
+                                                since=before), 'teleop still drives before the match')
         rospy.wait_for_service('/sim/set_switch', 10.0)
         self.assertTrue(rospy.ServiceProxy('/sim/set_switch', SetSwitch)('start_cord', False).ok)
         self.assertTrue(self.match.wait(10.0, lambda m: m.state == 'running'), 'the match did not start')
