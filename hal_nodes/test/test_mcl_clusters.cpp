@@ -31,7 +31,7 @@ TEST(Clusters, TwoModesGiveTheHeaviestModesCovarianceNotTheGap) {
   addMode(set, gen, 600, {2.5, 1.5, M_PI - 0.2}, 0.02, 0.03);  // the mirror place, 2.2 m away
   Clustering clustering(0.10, 0.20);
   const ClusterStats best = clustering.heaviest(set);
-  const ClusterStats whole = weightedStats(set);
+  const ClusterStats whole = weightedStats(set, circularMean(set));
   EXPECT_EQ(clustering.count(), 2u);
   EXPECT_NEAR(best.weight, 0.7, 1e-9);
   EXPECT_EQ(best.particles, 1400u);

@@ -23,7 +23,7 @@ from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import Pose2D, PoseArray, PoseStamped, PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import Odometry
-from robot_core.geometry import yaw_of
+from robot_core.geometry import wrap_angle, yaw_of
 from robot_sim.srv import SetSwitch, Teleport
 from smart_brain.msg import MatchStatus
 from std_srvs.srv import Empty
@@ -46,10 +46,6 @@ def spread_of(cloud):
     std = math.sqrt(sum((x - mx) ** 2 + (y - my) ** 2 for x, y in zip(xs, ys)) / n)
     resultant = math.hypot(sum(math.cos(t) for t in ths), sum(math.sin(t) for t in ths)) / n
     return std, 1.0 - resultant
-
-
-def angle_diff(a, b):
-    return math.atan2(math.sin(a - b), math.cos(a - b))
 
 
 class Truth(object):
@@ -103,7 +99,7 @@ class RosInterfacesTest(unittest.TestCase):
         """amcl_pose against the truth now (the robot standing still: stamps need no matching)."""
         x, y, th = self.estimate()
         t = self.truth.last()
-        return math.hypot(x - t[1], y - t[2]), abs(angle_diff(th, t[3]))
+        return math.hypot(x - t[1], y - t[2]), abs(wrap_angle(th - t[3]))
 
     def wait_still(self, timeout=10.0):
         return wait_for(lambda: self.truth.last()[4] < 0.005, timeout, step=0.05)
@@ -152,7 +148,7 @@ class RosInterfacesTest(unittest.TestCase):
         self.assertEqual(self.move_base.get_state(), GoalStatus.SUCCEEDED, self.move_base.get_goal_status_text())
         self.wait_still()
         _, tx, ty, tth, _ = self.truth.last()
-        d, a = math.hypot(tx - x, ty - y), abs(angle_diff(tth, th))
+        d, a = math.hypot(tx - x, ty - y), abs(wrap_angle(tth - th))
         print('move_base goal: %.1f mm, %.3f rad from the target by ground truth (tolerance %.1f mm, %.3f rad)'
               % (1e3 * d, a, 1e3 * self.tolerance, self.angle_tolerance))
         self.assertLess(d, self.tolerance, 'the robot stopped %.1f mm from the goal' % (1e3 * d))

@@ -5,23 +5,23 @@
 
 namespace hal_nodes::mcl {
 
-ClusterStats weightedStats(const ParticleSet& set, const std::vector<int>* labels, int keep) {
-  const std::size_t n = set.size();
-  auto in = [&](std::size_t i) { return labels == nullptr || (*labels)[i] == keep; };
-  double sw = 0.0, sc = 0.0, ss = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!in(i)) continue;
-    sw += set.w[i];
+double circularMean(const ParticleSet& set, const std::vector<int>* labels, int keep) {
+  double sc = 0.0, ss = 0.0;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    if (labels != nullptr && (*labels)[i] != keep) continue;
     sc += set.w[i] * std::cos(set.theta[i]);
     ss += set.w[i] * std::sin(set.theta[i]);
   }
+  return std::atan2(ss, sc);
+}
+
+ClusterStats weightedStats(const ParticleSet& set, double ref, const std::vector<int>* labels, int keep) {
   ClusterStats s;
-  if (!(sw > 0.0)) return s;
-  const double ref = std::atan2(ss, sc);
-  double sx = 0, sy = 0, st = 0, sxx = 0, syy = 0, sxy = 0, stt = 0, sxt = 0, syt = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!in(i)) continue;
+  double sw = 0, sx = 0, sy = 0, st = 0, sxx = 0, syy = 0, sxy = 0, stt = 0, sxt = 0, syt = 0;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    if (labels != nullptr && (*labels)[i] != keep) continue;
     const double wi = set.w[i], x = set.x[i], y = set.y[i], dt = wrapAngle(set.theta[i] - ref);
+    sw += wi;
     sx += wi * x;
     sy += wi * y;
     st += wi * dt;
@@ -33,6 +33,7 @@ ClusterStats weightedStats(const ParticleSet& set, const std::vector<int>* label
     syt += wi * y * dt;
     ++s.particles;
   }
+  if (!(sw > 0.0)) return s;
   const double mx = sx / sw, my = sy / sw, mt = st / sw;
   s.mean = {mx, my, wrapAngle(ref + mt)};
   s.cov[0] = std::max(0.0, sxx / sw - mx * mx);
@@ -110,7 +111,7 @@ ClusterStats Clustering::heaviest(const ParticleSet& set) {
     ++clusters_;
     if (cluster_weight_[c] > cluster_weight_[best]) best = static_cast<int>(c);
   }
-  ClusterStats s = weightedStats(set, &labels_, best);
+  ClusterStats s = weightedStats(set, circularMean(set, &labels_, best), &labels_, best);
   s.weight = total > 0.0 ? cluster_weight_[best] / total : 0.0;
   return s;
 }

@@ -250,46 +250,15 @@ void Filter::computeEstimate() {
   const std::size_t n = set_.size();
   const double* px = set_.x.data();
   const double* py = set_.y.data();
-  const double* pt = set_.theta.data();
   const double* w = set_.w.data();
-  // Heading mean: relative to a reference heading when the cloud is tight (no trigonometry
-  // in the loop), circular mean when it is spread (lost).
-  double ref = estimate_.pose.theta;
-  if (lost_) {
-    double sc = 0.0, ss = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      sc += w[i] * std::cos(pt[i]);
-      ss += w[i] * std::sin(pt[i]);
-    }
-    ref = std::atan2(ss, sc);
-  }
-  double sw = 0, sx = 0, sy = 0, st = 0, sxx = 0, syy = 0, sxy = 0, stt = 0, sxt = 0, syt = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double wi = w[i];
-    const double dt = wrapAngle(pt[i] - ref);
-    sw += wi;
-    sx += wi * px[i];
-    sy += wi * py[i];
-    st += wi * dt;
-    sxx += wi * px[i] * px[i];
-    syy += wi * py[i] * py[i];
-    sxy += wi * px[i] * py[i];
-    stt += wi * dt * dt;
-    sxt += wi * px[i] * dt;
-    syt += wi * py[i] * dt;
-  }
-  if (!(sw > 0.0)) return;
-  const double mx = sx / sw, my = sy / sw, mt = st / sw;
+  // Heading mean: relative to the previous estimate's heading when the cloud is tight (no
+  // trigonometry in the loop), to the circular mean when it is spread (lost).
+  const ClusterStats whole = weightedStats(set_, lost_ ? circularMean(set_) : estimate_.pose.theta);
+  if (!(whole.weight > 0.0)) return;
   Estimate& e = estimate_;
-  auto& c = e.set_cov;
-  c[0] = std::max(0.0, sxx / sw - mx * mx);
-  c[4] = std::max(0.0, syy / sw - my * my);
-  c[8] = std::max(0.0, stt / sw - mt * mt);
-  c[1] = c[3] = sxy / sw - mx * my;
-  c[2] = c[6] = sxt / sw - mx * mt;
-  c[5] = c[7] = syt / sw - my * mt;
-  Pose2D mean{mx, my, wrapAngle(ref + mt)};
-  e.cov = c;
+  e.set_cov = e.cov = whole.cov;
+  const auto& c = e.set_cov;
+  Pose2D mean = whole.mean;
   e.cluster_weight = 1.0;
   e.clusters = 1;
   // A set narrower than one cell is one cluster: the clustering is only paid for when spread.
@@ -318,9 +287,10 @@ void Filter::computeEstimate() {
   // weighted mass within quality_tolerance of the estimate (no Gaussian assumption). Not the
   // likelihood ratio w_fast / w_slow: that one moves with speed and sensor mix, not with error.
   const double tol2 = cfg_.quality_tolerance * cfg_.quality_tolerance;
-  double inside = 0.0;
+  double inside = 0.0, sw = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = px[i] - mean.x, dy = py[i] - mean.y;
+    sw += w[i];
     if (dx * dx + dy * dy <= tol2) inside += w[i];
   }
   e.tracking = p_track_;

@@ -25,9 +25,14 @@ struct ClusterStats {
   std::size_t particles = 0;
 };
 
-// Weighted mean and covariance of the particles whose index `keep` says (all when null); the
-// heading is averaged around its circular mean, so a cluster across +-pi is not torn apart.
-ClusterStats weightedStats(const ParticleSet& set, const std::vector<int>* labels = nullptr, int keep = 0);
+// The weighted circular mean heading of the particles labelled `keep` (all when labels is null).
+double circularMean(const ParticleSet& set, const std::vector<int>* labels = nullptr, int keep = 0);
+// Weighted mean and covariance of the particles labelled `keep` (all when labels is null), the
+// heading taken relative to `ref_theta` (a cluster across +-pi is not torn apart when ref_theta
+// is near its mean: circularMean(), or a previous estimate, which spares the trigonometry).
+// weight 0 when their weights sum to 0.
+ClusterStats weightedStats(const ParticleSet& set, double ref_theta, const std::vector<int>* labels = nullptr,
+                           int keep = 0);
 
 class Clustering {
  public:
