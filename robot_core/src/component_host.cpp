@@ -28,6 +28,9 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
               pnh.getNamespace().c_str());
     return false;
   }
+  // What this host publishes on /diagnostics is said once everything is loaded: a status that
+  // never came (a device stuck before its first report) is then missing, not merely absent.
+  pnh.deleteParam("status_names");
   const std::vector<std::string> types = availableTypes();
   // ~only: load just these blocks (replaying a match through one device); empty: all of them.
   std::vector<std::string> only;
@@ -80,6 +83,9 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
               pnh.getNamespace().c_str());
     return false;
   }
+  std::vector<std::string> status_names;  // as diagnostic_updater names them: "hal/odometry: device"
+  for (const auto& param : loaded_) status_names.push_back(param.substr(param[0] == '/' ? 1 : 0) + ": " + kind_);
+  pnh.setParam("status_names", status_names);
   ROS_INFO("%s: %zu %s(s) running", pnh.getNamespace().c_str(), loaded_.size(), kind_.c_str());
   return true;
 }

@@ -255,3 +255,18 @@ class ReadinessDiagnosticsTest(unittest.TestCase):
                          ['/Boards/motor_board is STALE: not answering', '/Devices/odometry is ERROR: stale input'])
         self.assertEqual(diagnostics_problems(statuses, optional=['odometry']),
                          ['/Boards/motor_board is STALE: not answering'])
+
+    def test_a_loaded_component_that_never_reported_holds_the_start(self):
+        from diagnostic_msgs.msg import DiagnosticStatus
+        from smart_brain.readiness import diagnostics_problems
+        ok = DiagnosticStatus.OK
+        statuses = {'/Boards/joystick: board': (ok, 'ok', True), '/Devices/drive: device': (ok, 'ok', True)}
+        expected = ['hcl/joystick: board', 'hal/drive: device', 'hal/joystick: device', 'hal/odometry: device']
+        # A board and a device of one name are told apart by their kind.
+        self.assertEqual(diagnostics_problems(statuses, expected=expected),
+                         ['hal/joystick: device is missing: no status on /diagnostics_agg yet',
+                          'hal/odometry: device is missing: no status on /diagnostics_agg yet'])
+        self.assertEqual(diagnostics_problems(statuses, optional=['joystick'], expected=expected),
+                         ['hal/odometry: device is missing: no status on /diagnostics_agg yet'])
+        statuses['/Devices/odometry: device'] = statuses['/Devices/joystick: device'] = (ok, 'ok', True)
+        self.assertEqual(diagnostics_problems(statuses, expected=expected), [])

@@ -2,7 +2,8 @@
 """The referee and readiness on the simulated 2009 robot (test/launch/sim_referee_eurobot2009.test).
 
 - Ready means ready: the brain's status says ready only while every board and device item on
-  /diagnostics_agg is OK, and /diagnostics_agg has one item per board and per device.
+  /diagnostics_agg is OK, and /diagnostics_agg has one item per board and per device the HCL and
+  the HAL loaded (their ~status_names), none missing.
 - One start: /brain/start (no cord) starts the simulated referee's match as well.
 - The idle strategy scores nothing of its own: at the match end our score is 0; whatever the
   opponent pushed into a zone is the opponent's (the score events say whose).
@@ -50,6 +51,10 @@ class SimRefereeTest(unittest.TestCase):
         for name in ('/Boards/motor_board: board', '/Boards/servo_board: board', '/Devices/odometry: device',
                      '/Devices/localization: device', '/Devices/driver: device'):
             self.assertIn(name, items, sorted(items))
+        # ... every board and device the hosts loaded, by the names they say they publish.
+        loaded = rospy.get_param('/hcl/status_names') + rospy.get_param('/hal/status_names')
+        self.assertIn('hal/odometry: device', loaded)
+        self.assertEqual(len(loaded), len(items), (loaded, sorted(items)))
         bad = {n: s.message for n, s in items.items() if s.level != DiagnosticStatus.OK}
         self.assertEqual(bad, {}, 'ready while not every item is OK')
         # Not started yet: the referee waits for the cord.

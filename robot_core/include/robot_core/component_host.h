@@ -3,6 +3,8 @@
 // loaded as nodelet "<package>/<type>" named "<this node>/<key>". `enabled: false` skips it.
 // Used by hcl_node (boards) and hal_nodes' hal_node (devices), so a robot is described by
 // its config alone: adding a board is one config block, not a launch-file edit.
+// Once loaded, `~status_names` lists the /diagnostics status of each component ("hcl/motor_board:
+// board"): the brain's readiness waits for every one of them, not only for those heard so far.
 #pragma once
 
 #include <nodelet/loader.h>

@@ -2,6 +2,10 @@
 every board and device is OK on /diagnostics_agg (Debian's diagnostic_aggregator, one item per
 board under /Boards and per device under /Devices, config/diagnostics_aggregator.yaml).
 
+Every board and device means every one the HCL and the HAL loaded (each host's `status_names`
+parameter, robot_core/component_host.h), so one that has not reported yet holds the start too:
+"/hal: hal/odometry: device is missing: no status on /diagnostics_agg yet".
+
 Otherwise `check()` names what is not, e.g. "/hcl died: parameter /hcl/motor_board/rate = -100:
 must be > 0" (a node's last FATAL or ERROR line on /rosout_agg is its last word) or
 "/Boards/motor_board: board is STALE: board not answering for 0.52 s".
@@ -36,10 +40,26 @@ def is_required(status):
     return not any(kv.key == 'required' and kv.value.strip().lower() in ('false', 'no') for kv in status.values)
 
 
-def diagnostics_problems(statuses, optional=()):
-    """The boards' and devices' items that are not OK: ['/Boards/x: board is STALE: why', ...].
-    `statuses`: name -> (level, message, required)."""
-    problems = []
+def missing_items(statuses, expected, optional=()):
+    """The expected status names ("hal/odometry: device", as their host publishes them) with no
+    leaf on /diagnostics_agg. The aggregator files "hal/odometry: device" as "/Devices/odometry:
+    device": the leaf ends with the name less its host's prefix (the kind keeps a board and a
+    device of one name apart)."""
+    leaves = list(statuses)
+    missing = []
+    for name in expected:
+        tail = '/' + name.split('/', 1)[-1]
+        if any(o in name for o in optional) or any(leaf.endswith(tail) for leaf in leaves):
+            continue
+        missing.append(name)
+    return missing
+
+
+def diagnostics_problems(statuses, optional=(), expected=()):
+    """The boards' and devices' items that are not OK: ['/Boards/x: board is STALE: why', ...],
+    and those expected but missing. `statuses`: name -> (level, message, required)."""
+    problems = ['%s is missing: no status on /diagnostics_agg yet' % name
+                for name in missing_items(statuses, expected, optional)]
     for name in sorted(statuses):
         level, message, required = statuses[name]
         if level == DiagnosticStatus.OK or not required or any(o in name for o in optional):
@@ -73,6 +93,17 @@ class Readiness(object):
             with self._lock:
                 self._last_words[msg.name] = msg.msg.splitlines()[0] if msg.msg else ''
 
+    def expected_status_names(self):
+        """What the running hosts said they publish (their `status_names` parameter)."""
+        names = []
+        for node in self.nodes:
+            try:
+                value = rospy.get_param(node.rstrip('/') + '/status_names', [])
+            except (KeyError, OSError):
+                value = []
+            names += [n for n in value if isinstance(n, str)] if isinstance(value, list) else []
+        return names
+
     def check(self):
         """(ready, text, what): text is 'ready' or 'not ready: <what, why>; <what, why>', `what`
         the names of what is not ready (it changes when something new fails or recovers, not
@@ -92,12 +123,13 @@ class Readiness(object):
                 problems.append('%s is not running' % node)
         with self._lock:
             statuses = self._statuses
+        expected = self.expected_status_names()
         if statuses is None:
             problems.append('nothing on /diagnostics_agg yet (is diagnostic_aggregator running?)')
         elif not statuses:
             problems.append('no board or device reports on /diagnostics_agg')
         else:
-            problems += diagnostics_problems(statuses, self.optional)
+            problems += diagnostics_problems(statuses, self.optional, expected)
         if not problems:
             return True, 'ready', ()
         what = tuple(p.split(' is ')[0].split(' died')[0] for p in problems)
