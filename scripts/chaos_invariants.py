@@ -10,7 +10,9 @@ end, simulated time). Every check returns violations as (time [s of match], text
                        within NAMED_WITHIN of its start, back to OK within CLEARED_WITHIN of its end
   nothing is lost      every periodic topic of the bag keeps coming for the whole match: no gap
                        over max(GAP_MIN, GAP_PERIODS periods) except while its publisher, or the
-                       recorder, was dead (until it was back and started: RESTART_ALLOWANCE)
+                       recorder, was dead (until it was back and started: RESTART_ALLOWANCE, in
+                       wall seconds: a restarted publisher is found again by the recorder in wall
+                       time, so at a real-time factor of 3 it is 3 x as long in the bag's time)
   the match ends       the effectors are off EFFECTORS_GRACE after the match end, or hal_node is
                        dead then (nothing is commanded)
   the robot recovers   after a fault's end, /mcl/pose within RECOVERED_M of the truth again (and
@@ -27,14 +29,14 @@ from match_report import errors_against_truth
 NAMED_WITHIN = 1.0        # [s]
 CLEARED_WITHIN = 2.0      # [s]
 GAP_MIN, GAP_PERIODS = 1.0, 10.0
-RESTART_ALLOWANCE = 5.0   # [s] after a respawned node answers, until its topics flow again
+RESTART_ALLOWANCE = 5.0   # [s, wall] after a respawned node answers, until its topics flow again
 EFFECTORS_GRACE = 1.0     # [s]
 RECOVERED_M, RECOVER_WITHIN = 0.05, 5.0
 SETTLED = 1.0             # [s] the error stays below RECOVERED_M this long to count as back
 OK, ERROR = 0, 2
 
 RECORDER_BUFFER = 1.0     # [s] a recorder killed -9 loses the chunk it had not written yet
-RECORDER_RESTART = 10.0   # [s] a respawned recorder subscribes again to ~90 topics: one took 6.2 s
+RECORDER_RESTART = 10.0   # [s, wall] a respawned recorder subscribes again to ~90 topics: one took 6.2 s
                           # after the recorder answered, on a loaded machine
 
 #: Which process publishes a topic (first matching prefix and suffix); None: several, or the simulator.
@@ -64,6 +66,18 @@ def dead_windows(faults):
     return out
 
 
+def wall_to_sim(fault, wall_seconds):
+    """`wall_seconds` in the bag's (simulated) time: times the real-time factor the injector
+    measured over the fault (never less than real time)."""
+    return wall_seconds * max(1.0, float(fault.get('factor', 1.0)))
+
+
+def restart_windows(faults, node, before, wall_after):
+    """[(start - before, end + wall_after in simulated s)] of the process faults of `node`."""
+    return [(f['start'] - before, f['end'] + wall_to_sim(f, wall_after))
+            for f in faults if f['kind'] in ('kill', 'stall') and f['target'] == node]
+
+
 def _inside(t, windows, before=0.0, after=0.0):
     return any(a - before <= t <= b + after for a, b in windows)
 
@@ -72,7 +86,7 @@ def no_motor_runs_blind(m, config, faults, t0):
     out = []
     dead = dead_windows(faults)
     hcl_dead = dead.get('/hcl', [])
-    unrecorded = [(a - RECORDER_BUFFER, b + RESTART_ALLOWANCE) for a, b in dead.get('/record', [])]
+    unrecorded = restart_windows(faults, '/record', RECORDER_BUFFER, RESTART_ALLOWANCE)
     for topic in m.find('/sim/', '/firmware'):
         board = topic.split('/')[2]
         block = config.get('hcl', {}).get(board, {})
@@ -113,7 +127,7 @@ def statuses(m):
 def faults_named(m, faults, t0, series=None):
     out = []
     series = series if series is not None else statuses(m)
-    recorder_dead = dead_windows(faults).get('/record', [])
+    recorder_dead = restart_windows(faults, '/record', 0.0, RECORDER_RESTART)  # down, or not subscribed yet
     for f in faults:
         name = expected_status(f)
         if name is None or f['outcome'].startswith(('REFUSED', 'FAILED')):
@@ -122,18 +136,21 @@ def faults_named(m, faults, t0, series=None):
         if _inside(f['start'], recorder_dead, after=NAMED_WITHIN) or _inside(f['end'], recorder_dead, after=CLEARED_WITHIN):
             continue  # the recorder was down: the bag cannot tell
         points = series.get(name, [])
-        named = [t for t, level, _ in points if f['start'] <= t <= f['start'] + NAMED_WITHIN and level >= ERROR]
+        named_within, cleared_within = NAMED_WITHIN, CLEARED_WITHIN
+        if f['kind'] in ('kill', 'stall'):
+            named_within, cleared_within = wall_to_sim(f, NAMED_WITHIN), wall_to_sim(f, CLEARED_WITHIN)
+        named = [t for t, level, _ in points if f['start'] <= t <= f['start'] + named_within and level >= ERROR]
         if not named:
             seen = [(t - f['start'], level, msg) for t, level, msg in points
-                    if f['start'] <= t <= f['start'] + NAMED_WITHIN]
-            out.append((f['start'] - t0, '%s not named on "%s" at ERROR/STALE within %.0f s (there: %s)'
-                        % (what, name, NAMED_WITHIN, sorted({(lv, msg[:60]) for _, lv, msg in seen}) or 'nothing')))
+                    if f['start'] <= t <= f['start'] + named_within]
+            out.append((f['start'] - t0, '%s not named on "%s" at ERROR/STALE within %.1f s (there: %s)'
+                        % (what, name, named_within, sorted({(lv, msg[:60]) for _, lv, msg in seen}) or 'nothing')))
             continue
         cleared = [t for t, level, _ in points if t >= max(f['end'], named[0]) and level == OK]
-        if not cleared or cleared[0] > f['end'] + CLEARED_WITHIN:
+        if not cleared or cleared[0] > f['end'] + cleared_within:
             late = ('%.2f s after its end' % (cleared[0] - f['end'])) if cleared else 'never'
-            out.append((f['end'] - t0, '%s: "%s" not back to OK within %.0f s of the fault\'s end (%s)'
-                        % (what, name, CLEARED_WITHIN, late)))
+            out.append((f['end'] - t0, '%s: "%s" not back to OK within %.1f s of the fault\'s end (%s)'
+                        % (what, name, cleared_within, late)))
     return out
 
 
@@ -162,11 +179,11 @@ def nothing_lost(m, faults, start, end, t0, config):
     out = []
     dead = dead_windows(faults)
     quiet = [(quiet_board_topics(f, config), f['start'], f['end']) for f in faults]
-    excused_for = collections.defaultdict(list)  # node -> windows its topics may pause
-    for node, windows in dead.items():
+    excused_for = collections.defaultdict(list)  # node -> windows its topics may pause, allowance included
+    for node in dead:
         for affected in DOWNSTREAM.get(node, (node,)):
-            excused_for[affected] += windows
-    everything = [(a - RECORDER_BUFFER, b + RECORDER_RESTART - RESTART_ALLOWANCE) for a, b in dead.get('/record', [])]
+            excused_for[affected] += restart_windows(faults, node, 0.0, RESTART_ALLOWANCE)
+    everything = restart_windows(faults, '/record', RECORDER_BUFFER, RECORDER_RESTART)
     for topic in sorted(m.topics):
         if topic.endswith(EVENT_TOPICS):
             continue
@@ -178,11 +195,11 @@ def nothing_lost(m, faults, start, end, t0, config):
             continue
         allowed = max(GAP_MIN, GAP_PERIODS * period)
         excused = excused_for.get(owner(topic), []) + everything + \
-            [(a, b) for fragments, a, b in quiet if any(p in topic for p in fragments)]
+            [(a, b + RESTART_ALLOWANCE) for fragments, a, b in quiet if any(p in topic for p in fragments)]
         for a, b in zip([start] + times, times + [end]):
             if b - a <= allowed:
                 continue
-            if any(wa - allowed <= a and b <= we + RESTART_ALLOWANCE for wa, we in excused):
+            if any(wa - allowed <= a and b <= we for wa, we in excused):
                 continue
             out.append((a - t0, 'lost: %s silent for %.2f s (allowed %.2f s)' % (topic, b - a, allowed)))
             break

@@ -10,7 +10,9 @@ magnitude}; scripts/chaos_faults.py draws them and says what each kind means. Th
   XML-RPC (robot_core/node_probe.py). Their end is when the node answers again.
 
 Every fault's actual start and end (simulated time) is written to the log file as YAML, for the
-invariants (scripts/chaos_invariants.py).
+invariants (scripts/chaos_invariants.py). A process fault also gets `factor`, the simulated
+seconds per wall second while it lasted: what follows a restart (its publishers found by the
+recorder again) takes wall time, and the invariants allow it in wall time.
 """
 import math
 import os
@@ -58,9 +60,13 @@ class FaultInjector(object):
             t.join(max(0.0, deadline - time.monotonic()))
         self._write()
 
-    def _record(self, fault, start, end, outcome):
+    def _record(self, fault, start, end, outcome, wall=None):
+        """`wall`: the fault's length in wall seconds, when it is a process's (gives `factor`)."""
+        entry = dict(fault, start=round(start, 3), end=round(end, 3), outcome=outcome)
+        if wall is not None:
+            entry['factor'] = round(max(1.0, (end - start) / wall), 2) if wall > 0.05 else 1.0
         with self._lock:
-            self.done.append(dict(fault, start=round(start, 3), end=round(end, 3), outcome=outcome))
+            self.done.append(entry)
             self._write()
 
     def _write(self):
@@ -93,7 +99,7 @@ class FaultInjector(object):
         pid, why = probe(master, node, 1.0, '/run_match_faults')
         if pid is None:
             return self._record(f, rospy.get_time(), rospy.get_time(), 'FAILED: %s %s' % (node, why))
-        start = rospy.get_time()
+        start, wall_start = rospy.get_time(), time.monotonic()
         if f['kind'] == 'kill':
             os.kill(pid, signal.SIGKILL)
             # Its end: the respawned node answers (a new pid).
@@ -101,13 +107,16 @@ class FaultInjector(object):
             while time.monotonic() < deadline:
                 new, _ = probe(master, node, 0.2, '/run_match_faults')
                 if new is not None and new != pid:
-                    return self._record(f, start, rospy.get_time(), 'killed pid %d, back as pid %d' % (pid, new))
+                    return self._record(f, start, rospy.get_time(), 'killed pid %d, back as pid %d' % (pid, new),
+                                        time.monotonic() - wall_start)
                 time.sleep(0.05)
-            return self._record(f, start, rospy.get_time(), 'killed pid %d, NOT back within %.0f s' % (pid, RESPAWN_WAIT))
+            return self._record(f, start, rospy.get_time(), 'killed pid %d, NOT back within %.0f s' % (pid, RESPAWN_WAIT),
+                                time.monotonic() - wall_start)
         os.kill(pid, signal.SIGSTOP)
         time.sleep(float(f.get('duration', 0.5)))
         os.kill(pid, signal.SIGCONT)
-        self._record(f, start, rospy.get_time(), 'stopped pid %d for %.2f s (wall)' % (pid, float(f.get('duration', 0.5))))
+        self._record(f, start, rospy.get_time(), 'stopped pid %d for %.2f s (wall)' % (pid, float(f.get('duration', 0.5))),
+                     time.monotonic() - wall_start)
 
 
 def kidnap(distance):

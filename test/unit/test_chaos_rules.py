@@ -101,6 +101,14 @@ class NamedTest(unittest.TestCase):
     def test_never_cleared(self):
         self.assertIn('not back to OK', self.check([(10.5, 2, 'x'), (14.5, 0, 'ok')])[0][1])
 
+    def test_a_process_fault_is_named_in_wall_seconds(self):
+        # process_watch probes on the wall clock: at a factor of 3, named 2.5 s (simulated) after
+        # the stall is 0.8 s of wall time.
+        stall = fault('stall', '/hal', 10.0, 12.0)
+        points = {'process /hal': [(12.5, 2, 'stalled'), (13.0, 0, 'running')]}
+        self.assertIn('not named', inv.faults_named(None, [stall], 0.0, series=points)[0][1])
+        self.assertEqual(inv.faults_named(None, [dict(stall, factor=3.0)], 0.0, series=points), [])
+
     def test_the_recorder_down_excuses(self):
         down = fault('kill', '/record', start=9.0, end=13.0)
         self.assertEqual(inv.faults_named(None, [fault('board_silent', 'motor_board'), down], 0.0,
@@ -125,6 +133,16 @@ class LostTest(unittest.TestCase):
     def test_its_dead_publisher_excuses_a_gap(self):
         m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
         self.assertEqual(inv.nothing_lost(m, [fault('kill', '/hal', 30.0, 31.0)], 0.0, 90.0, 0.0, {}), [])
+
+    def test_the_allowance_after_a_restart_is_wall_time(self):
+        # Back at 31 s, silent in the bag until 40 s: 9 s simulated. At real time that is more than
+        # RESTART_ALLOWANCE; at a factor of 3 the recorder's reconnection took 3 s of wall time.
+        m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 40))})
+        kill = fault('kill', '/hal', 30.0, 31.0)
+        self.assertEqual(len(inv.nothing_lost(m, [kill], 0.0, 90.0, 0.0, {})), 1)
+        self.assertEqual(inv.nothing_lost(m, [dict(kill, factor=3.0)], 0.0, 90.0, 0.0, {}), [])
+        # Slower than real time still allows the wall seconds, never fewer.
+        self.assertEqual(len(inv.nothing_lost(m, [dict(kill, factor=0.5)], 0.0, 90.0, 0.0, {})), 1)
 
     def test_another_dead_process_does_not(self):
         m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
