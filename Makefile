@@ -3,10 +3,20 @@
 #   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1]  install, build, run one simulated
 #                               match headless (also logion; skeleton runs until Ctrl-C), print
 #                               the score (ours, opponent), bag and report paths
-#   make matches [ROBOT=eurobot2009] [N=20] [SEED=1] [FACTOR=0]  install, build, run N seeded
-#                               matches headless one at a time (opponent: random walk, route,
-#                               blocker in turn), a row per match, report/matches/ (bags, reports,
-#                               summary PNG); exits non-zero when a match broke an invariant
+#   make matches [ROBOT=eurobot2009] [N=20] [SEED=1] [FACTOR=0] [CLUSTER=tcp://HOST:8786]
+#                [WORKERS=W] [FETCH_BAGS=1]  install, build, run N seeded matches headless on a
+#                               Dask cluster (CLUSTER's scheduler, else a local one of WORKERS
+#                               processes, default one per 2 cores; opponent: random walk, route,
+#                               blocker in turn), a row per match, report/matches/ (reports,
+#                               summary PNG; bags stay on remote workers unless FETCH_BAGS=1);
+#                               exits non-zero when a match broke an invariant
+#   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [CLUSTER=...] [WORKERS=W]  an Optuna
+#                               study over config/tune/ROBOT.yaml, SEEDS matches per trial, then
+#                               the best overlay against the shipped config on held-out seeds;
+#                               report/tune/; closing line `trials T best_score B baseline_score S
+#                               improvement D ci95 [L, H]`
+#   make scheduler | make worker CLUSTER=tcp://HOST:8786 [WORKERS=W]  a Dask scheduler, or
+#                               workers for it, with this workspace's environment
 #   make chaos [ROBOT=eurobot2009] [N=10] [SEED=1] [FACTOR=0]  install, build, run N seeded
 #                               matches with faults injected mid-match (every fault class: buses,
 #                               world, processes), check the invariants, a row per match,
@@ -29,6 +39,10 @@ STRATEGY ?=
 SEED ?= 1
 N ?=
 FACTOR ?= 0
+CLUSTER ?=
+WORKERS ?=
+TRIALS ?= 50
+SEEDS ?= 5
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 JOBS ?= 2
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -54,6 +68,8 @@ DEPS += rviz xvfb xauth imagemagick python3-matplotlib python3-pil openssh-serve
 DEPS += librviz-dev qtbase5-dev
 # ROS users' usual tools and interfaces: tf_echo / view_frames, move_base's action messages
 DEPS += tf-tools python3-tf libmove-base-msgs-dev python3-move-base-msgs
+# matches at scale: Dask distributed, Optuna (its parameter importances need scikit-learn)
+DEPS += python3-distributed python3-optuna python3-sklearn
 # libFuzzer (clang) for the beacon parser fuzz test
 DEPS += clang libclang-rt-14-dev
 # The real SocketCAN test needs a VM on a kernel without AF_CAN: `make test` installs
@@ -79,7 +95,25 @@ run: build
 .PHONY: matches
 matches: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
-	  $(if $(STRATEGY),--strategy $(STRATEGY))
+	  $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(CLUSTER),--cluster $(CLUSTER)) \
+	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags)
+
+# An Optuna study of config/tune/ROBOT.yaml's parameters (scripts/tune.py).
+.PHONY: tune
+tune: build
+	$(SETUP) && python3 $(ROOT)/scripts/tune.py $(ROBOT) --trials $(TRIALS) --seeds $(SEEDS) --seed $(SEED) \
+	  --factor $(FACTOR) $(if $(CLUSTER),--cluster $(CLUSTER)) $(if $(WORKERS),--workers $(WORKERS))
+
+# A Dask scheduler (port 8786) and workers for it, on any machine with this workspace built: the
+# workers need ROS's environment and scripts/ on their path; one single-threaded worker process
+# per 2 cores (a match at full speed keeps two busy). A worker that dies mid-match costs that match one retry.
+.PHONY: scheduler worker
+scheduler: deps
+	DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=1 dask scheduler --port 8786 --dashboard-address :8787
+worker: build
+	@test -n "$(CLUSTER)" || { echo "make worker: CLUSTER=tcp://HOST:8786 (the scheduler's address)"; exit 2; }
+	$(SETUP) && PYTHONPATH=$(ROOT)/scripts:$$PYTHONPATH dask worker $(CLUSTER) --nthreads 1 \
+	  --nworkers $(or $(WORKERS),$$(( $$(nproc) > 3 ? $$(nproc) / 2 : 1 ))) --local-directory /tmp/robot_matches
 
 # N seeded matches with a fault schedule each (scripts/run_chaos.py, scripts/chaos_faults.py).
 .PHONY: chaos

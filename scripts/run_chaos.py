@@ -119,7 +119,7 @@ def main():
         folder = os.path.join(args.out, '%s_seed%d' % (args.robot, seed))
         os.makedirs(folder, exist_ok=True)
         opponent = run_matches.opponent_params(kind, config)
-        overlay = run_matches.write_overlay(folder, opponent)
+        overlay = run_matches.write_overlay(folder, run_matches.match_overlay(opponent))
         schedule = os.path.join(folder, 'schedule.yaml')
         with open(schedule, 'w') as f:
             yaml.safe_dump(schedules[k], f, default_flow_style=None)

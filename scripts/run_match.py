@@ -93,7 +93,7 @@ def main():
         cmd.append('overlay:=' + os.path.abspath(args.overlay))
     log('starting the simulated %s robot headless: %s' % (args.robot, ' '.join(cmd[2:])))
     launch_log = open(os.path.join(args.out, args.robot + '_launch.log'), 'w')
-    proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=os.setsid)
+    proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=own_session_dying_with_parent)
     try:
         ended = follow_match(args, proc, launch_log.name)
     finally:
@@ -117,6 +117,19 @@ def main():
     if rc == 0:
         log('report: %s' % png)
     return 0 if (ended and rc == 0) else 1
+
+
+def die_with_parent():
+    """In a child, before exec: SIGINT when the process that started it dies (prctl
+    PR_SET_PDEATHSIG). A runner killed -9 (a Dask worker lost mid-match) would otherwise leave
+    its simulation running at full speed; roslaunch and run_match.py stop cleanly on SIGINT."""
+    import ctypes
+    ctypes.CDLL('libc.so.6', use_errno=True).prctl(1, signal.SIGINT)  # 1: PR_SET_PDEATHSIG
+
+
+def own_session_dying_with_parent():
+    os.setsid()  # the launch's whole process group is stopped at the end (killpg)
+    die_with_parent()
 
 
 def free_port(kind):

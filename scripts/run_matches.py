@@ -3,8 +3,11 @@
 row of figures per match, a summary PNG and a check of the invariants every match must keep.
 
     scripts/run_matches.py ROBOT [--n 20] [--seed 1] [--factor 0] [--out DIR] [--strategy NAME]
+                           [--cluster tcp://HOST:8786] [--workers W] [--fetch-bags] [--match-duration S]
 
-Match k (seed SEED + k) is one scripts/run_match.py run (launch with record:=true, wait for
+The matches run on a Dask distributed cluster (scripts/match_cluster.py): the scheduler at
+--cluster, or a local cluster of --workers processes (default: one per two cores). Match k (seed
+SEED + k) is one scripts/run_match.py run (launch with record:=true, wait for
 "ready", pull the start cord, follow the match to its end, stop, write the match report) in
 DIR/ROBOT_seed<seed>/ (DIR: report/matches), on a ROS master of its own. The opponent cycles
 between matches through
@@ -12,8 +15,8 @@ between matches through
   route        a scripted loop around the game elements (mode script),
   blocker      drives to our goal (the first table/score_zones zone whose team is `placer` or
                our colour) and stays there (mode script, one waypoint, a pause longer than a match),
-written as one small YAML per match (DIR/ROBOT_seed<seed>/opponent.yaml, the launch argument
-`overlay`). Every figure comes from the match's bag (scripts/match_report.py's Match) and
+written as one small YAML per match (DIR/ROBOT_seed<seed>/overlay.yaml, the launch argument
+`overlay`; `make tune` adds a trial's parameters to it). Every figure comes from the match's bag (scripts/match_report.py's Match) and
 launch log:
   score ours / opponent  the referee's last /sim/match
   contacts               times our true outline and the opponent's come within touching
@@ -28,7 +31,9 @@ launch log:
 Invariants (a violation makes the exit code 1, each is printed with its seed): no node died
 (launch log), the match started (and ended), the effectors were off 1 s after the match end, our
 robot's true pose stayed on the table ([0, length] x [0, width] of table:), no idle stretch over
-10 s while more than 10 s of the match remained. The last line is
+10 s while more than 10 s of the match remained; a match lost with its workers is a violation.
+Before the last line, `cluster: W workers, R retries` (R: matches rerun because their worker
+died). The last line is
     matches N score_mean S score_min A violations V wall_s W factor F
 """
 import argparse
@@ -157,11 +162,23 @@ def opponent_params(kind, config):
     raise ValueError(kind)
 
 
-def write_overlay(folder, params):
-    path = os.path.join(folder, 'opponent.yaml')
+def match_overlay(opponent, params=None):
+    """A match's parameters over the config: `params` (a tuning trial's, or none) and its opponent."""
+    return merged(params or {}, {'sim': {'world': {'opponent': opponent}}})
+
+
+def with_duration(overlay, seconds):
+    """`overlay` with the match shortened to `seconds` (brain/match/duration, which the simulated
+    referee follows too): a quick check of a runner's machinery, not of the robot. None: as is."""
+    return merged(overlay, {'brain': {'match': {'duration': seconds}}}) if seconds else overlay
+
+
+def write_overlay(folder, overlay):
+    """FOLDER/overlay.yaml, the launch argument overlay: loaded after the robot's config."""
+    path = os.path.join(folder, 'overlay.yaml')
     with open(path, 'w') as f:
-        f.write('# scripts/run_matches.py: this match\'s opponent (launch argument overlay)\n')
-        yaml.safe_dump({'sim': {'world': {'opponent': params}}}, f, default_flow_style=None)
+        f.write('# scripts/run_matches.py: this match\'s opponent and parameters (launch argument overlay)\n')
+        yaml.safe_dump(overlay, f, default_flow_style=None)
     return path
 
 
@@ -179,7 +196,7 @@ def run_one(robot, seed, factor, folder, overlay, strategy, index, n, extra=()):
     cmd += list(extra)
     with open(os.path.join(folder, 'run_match.out'), 'w') as out:
         proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                universal_newlines=True, errors='replace')
+                                universal_newlines=True, errors='replace', preexec_fn=run_match.die_with_parent)
         try:
             for line in proc.stdout:
                 out.write(line)
@@ -405,47 +422,64 @@ def main():
     ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
     ap.add_argument('--out', default=os.path.join(ROOT, 'report', 'matches'), help='where the match folders go')
     ap.add_argument('--strategy', default=None, help="the brain's strategy (default: the robot's)")
+    ap.add_argument('--cluster', default=None, help='Dask scheduler address, tcp://HOST:8786 (default: a local cluster)')
+    ap.add_argument('--workers', type=int, default=None, help='local cluster size (default: one worker per two cores)')
+    ap.add_argument('--fetch-bags', action='store_true', help="bring each match's bag back from its worker")
+    ap.add_argument('--match-duration', type=float, default=None,
+                    help="[s] shorter matches for a quick check of the machinery (default: the config's)")
     args = ap.parse_args()
+    if args.cluster and args.workers:
+        sys.exit('matches: --workers sizes the local cluster; a remote cluster has the workers it has')
     if not os.path.exists(os.path.join(ROOT, 'launch', args.robot + '.launch')):
         sys.exit('matches: ROBOT=%s: no launch/%s.launch' % (args.robot, args.robot))
     config = robot_config(args.robot)
     if 'opponent' not in config.get('sim', {}).get('world', {}):
         sys.exit('matches: %s has no simulated match (no sim/world/opponent in its config)' % args.robot)
 
+    import match_cluster
     began = time.monotonic()
-    rows, interrupted = [], False
-    for k in range(args.n):
-        seed, kind = args.seed + k, OPPONENTS[k % len(OPPONENTS)]
-        folder = os.path.join(args.out, '%s_seed%d' % (args.robot, seed))
-        os.makedirs(folder, exist_ok=True)
-        opponent = opponent_params(kind, config)
-        overlay = write_overlay(folder, opponent)
-        log('[%d/%d] seed %d, opponent %s: starting (%s)' % (k + 1, args.n, seed, kind, folder))
-        t0 = time.monotonic()
-        try:
-            rc = run_one(args.robot, seed, args.factor, folder, overlay, args.strategy, k + 1, args.n)
-        except KeyboardInterrupt:
-            log('interrupted: the summary of the %d finished match(es) follows' % len(rows))
-            interrupted = True
-            break
-        row = analyse(seed, kind, folder, args.robot, merged(config, {'sim': {'world': {'opponent': opponent}}}),
-                      rc, time.monotonic() - t0)
-        rows.append(row)
-        log('[%d/%d] seed %d ended: score ours %s, opponent %s, %.0f s wall, %s' % (
-            k + 1, args.n, seed, '-' if row.ours is None else row.ours, '-' if row.theirs is None else row.theirs,
-            row.wall,
-            'violations: %d' % len(row.violations) if row.violations else 'no violation'))
+    jobs = [match_cluster.Job(robot=args.robot, seed=args.seed + k, opponent=OPPONENTS[k % len(OPPONENTS)],
+                              factor=args.factor, strategy=args.strategy,
+                              params=with_duration({}, args.match_duration), out=args.out,
+                              fetch_bags=args.fetch_bags, shared_disk=not args.cluster) for k in range(args.n)]
+    os.makedirs(args.out, exist_ok=True)
+    client, cluster = match_cluster.connect(args.cluster, args.workers)
+    workers = match_cluster.worker_count(client)
+    log('%d match(es) on %s, %d worker(s)' % (args.n, args.cluster or 'a local cluster', workers))
+    done = []
+
+    def said(k, row, retried):
+        done.append(k)
+        log('[%d/%d] seed %d (%s) ended: score ours %s, opponent %s, %s s wall, %s%s' % (
+            len(done), args.n, row.seed, row.opponent, '-' if row.ours is None else row.ours,
+            '-' if row.theirs is None else row.theirs, '-' if row.wall is None else '%.0f' % row.wall,
+            'violations: %d' % len(row.violations) if row.violations else 'no violation',
+            ', %d retries so far' % retried if retried else ''))
+
+    interrupted = False
+    try:
+        rows, retried = match_cluster.run_jobs(client, jobs, said)
+    except KeyboardInterrupt:
+        log('interrupted: no summary (the matches still running are stopped with their workers)')
+        interrupted, rows, retried = True, [], 0
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    if interrupted:
+        return 130
 
     wall = time.monotonic() - began
     violations = [(r.seed, v) for r in rows for v in r.violations]
     lines = table_lines(rows) + ['violation: seed %d: %s' % sv for sv in violations]
     png = os.path.join(args.out, '%s_matches.png' % args.robot)
     summary_png(rows, png, args.robot, args.factor)
-    lines += ['summary: %s' % png, closing_line(rows, len(violations), wall, args.factor)]
+    lines += ['summary: %s' % png, 'cluster: %d workers, %d retries' % (workers, retried),
+              closing_line(rows, len(violations), wall, args.factor)]
     with open(os.path.join(args.out, '%s_matches.txt' % args.robot), 'w') as f:
         f.write('\n'.join(lines) + '\n')
     print('\n'.join(lines), flush=True)
-    return 130 if interrupted else 1 if violations else 0
+    return 1 if violations else 0
 
 
 if __name__ == '__main__':

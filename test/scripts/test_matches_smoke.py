@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""scripts/run_matches.py as `make matches` runs it, with N=2 (launch/matches_smoke.test):
-eurobot2009, seeds 1 and 2, at the test's ~factor (default 1.0). The runner exits 0, both
-matches ended (run_match.py said so and kept a bag and a report in each match folder), the
-summary PNG is written and the closing line parses with 2 matches and 0 violations."""
+"""scripts/run_matches.py as `make matches N=2 WORKERS=2` runs it (launch/matches_smoke.test):
+eurobot2009, seeds 1 and 2, at the test's ~factor (default 1.0), on a local Dask cluster of two
+workers, so both matches run at once, each on its own ROS master and ports. The runner exits 0,
+both matches ended (run_match.py said so and kept a bag and a report in each match folder), the
+summary says 2 workers and no retry, the summary PNG is written and the closing line parses with
+2 matches and 0 violations."""
 import math
 import os
 import re
@@ -31,7 +33,7 @@ class MatchesSmokeTest(unittest.TestCase):
         cls.factor = float(rospy.get_param('~factor', 1.0))
         cls.out = tempfile.mkdtemp(prefix='matches_smoke_')
         cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'run_matches.py'), ROBOT, '--n', str(N),
-               '--seed', str(SEED), '--factor', repr(cls.factor), '--out', cls.out]
+               '--seed', str(SEED), '--factor', repr(cls.factor), '--out', cls.out, '--workers', '2']
         cls.rc, cls.output = run_runner(cmd, RUNNER_TIMEOUT)
         print(cls.output)  # the runner's progress and table in the test's log
 
@@ -49,6 +51,9 @@ class MatchesSmokeTest(unittest.TestCase):
 
     def test_runner_exits_zero(self):
         self.assertEqual(self.rc, 0, self.output[-3000:])
+
+    def test_two_workers_no_retry(self):
+        self.assertIn('cluster: 2 workers, 0 retries', self.output.splitlines(), self.output[-3000:])
 
     def test_closing_line_parses_without_violations(self):
         m = self.closing()
@@ -68,7 +73,7 @@ class MatchesSmokeTest(unittest.TestCase):
             self.assertIn('run: match ended', said, 'seed %d: %s' % (seed, said[-2000:]))
             for name in ('_match.bag', '_match.png', '_launch.log'):
                 self.assertTrue(os.path.exists(os.path.join(folder, ROBOT + name)), 'seed %d: no %s' % (seed, name))
-            self.assertTrue(os.path.exists(os.path.join(folder, 'opponent.yaml')))
+            self.assertTrue(os.path.exists(os.path.join(folder, 'overlay.yaml')))
         self.assertTrue(os.path.exists(os.path.join(self.out, ROBOT + '_matches.png')))
 
     def test_one_row_per_match(self):

@@ -22,6 +22,8 @@ import unittest
 import rospy
 import rostest
 
+import netns_pair  # beside this script
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 PID = os.getpid()
 NET = '10.213.%d' % (PID % 250)            # our own /30, inside our own namespaces only
@@ -30,10 +32,6 @@ NS_ROBOT, NS_STATION = 'prod_robot_%d' % PID, 'prod_station_%d' % PID
 VETH = ('pvr%d' % (PID % 100000), 'pvs%d' % (PID % 100000))
 PORT = 11611
 MASTER = 'http://%s:%d' % (ROBOT_IP, PORT)
-
-
-def ip(*args):
-    subprocess.run(['ip'] + list(args), check=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
 
 
 def env_for(address):
@@ -51,15 +49,7 @@ class DistributedTest(unittest.TestCase):
         assert cls.mode in ('split', 'ssh'), '~mode must be split or ssh'
         cls.tmp = tempfile.mkdtemp(prefix='product_netns_')
         cls.procs = []
-        ip('netns', 'add', NS_ROBOT)
-        ip('netns', 'add', NS_STATION)
-        ip('link', 'add', VETH[0], 'type', 'veth', 'peer', 'name', VETH[1])
-        ip('link', 'set', VETH[0], 'netns', NS_ROBOT)
-        ip('link', 'set', VETH[1], 'netns', NS_STATION)
-        for ns, dev, addr in ((NS_ROBOT, VETH[0], ROBOT_IP), (NS_STATION, VETH[1], STATION_IP)):
-            ip('-n', ns, 'addr', 'add', addr + '/30', 'dev', dev)
-            ip('-n', ns, 'link', 'set', dev, 'up')
-            ip('-n', ns, 'link', 'set', 'lo', 'up')
+        netns_pair.create((NS_ROBOT, NS_STATION), VETH, (ROBOT_IP, STATION_IP))
         cls.start('roscore', NS_ROBOT, ROBOT_IP, ['roscore', '-p', str(PORT)])
         launch = os.path.join(ROOT, 'launch', 'skeleton.launch')
         if cls.mode == 'split':
@@ -122,8 +112,7 @@ class DistributedTest(unittest.TestCase):
                 except subprocess.TimeoutExpired:
                     os.killpg(p.pid, signal.SIGKILL)
                     p.wait()
-        for ns in (NS_ROBOT, NS_STATION):
-            subprocess.run(['ip', 'netns', 'del', ns], stderr=subprocess.DEVNULL)  # removes the veth too
+        netns_pair.delete((NS_ROBOT, NS_STATION))
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
     def run_in(self, ns, address, cmd, timeout=30):

@@ -1,0 +1,95 @@
+"""scripts/tune_objective.py and scripts/tune.py's parameter handling on made-up rows: the
+penalties, a broken invariant that sinks a trial, the paired verdict, the declared space of
+config/tune/eurobot2009.yaml against the robot's config. No ROS master, no simulation."""
+import math
+import os
+import sys
+import unittest
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
+sys.path.insert(0, os.path.join(ROOT, 'scripts'))
+import tune  # noqa: E402
+import tune_objective as objective  # noqa: E402
+from run_matches import MatchRow, robot_config  # noqa: E402
+
+WEIGHTS = {'contact_penalty': 0.5, 'invariant_penalty': 100.0}
+
+
+def row(ours, contacts=0, violations=(), seed=1):
+    fields = {f: None for f in MatchRow._fields}
+    fields.update(seed=seed, ours=ours, contacts=contacts, violations=list(violations), errors=[])
+    return MatchRow(**fields)
+
+
+class ObjectiveTest(unittest.TestCase):
+    def test_the_score_less_a_penalty_per_contact(self):
+        self.assertEqual(objective.match_value(row(9, contacts=2), WEIGHTS), 8.0)
+        self.assertEqual(objective.trial_value([row(9), row(3, contacts=4)], WEIGHTS), (9 + 1) / 2.0)
+
+    def test_a_broken_invariant_sinks_the_trial(self):
+        clean = [row(3)] * 5
+        broken = [row(12)] * 4 + [row(12, violations=['our robot left the table'])]
+        self.assertLess(objective.trial_value(broken, WEIGHTS), objective.trial_value(clean, WEIGHTS))
+        self.assertLess(objective.trial_value(broken, WEIGHTS), 0.0)
+
+    def test_a_match_that_never_ran_counts_nothing_and_is_broken(self):
+        self.assertEqual(objective.match_value(row(None, contacts=None, violations=['lost: KilledWorker']), WEIGHTS),
+                         -100.0)
+
+    def test_no_match_is_an_error(self):
+        with self.assertRaises(ValueError):
+            objective.trial_value([], WEIGHTS)
+
+    def test_the_paired_verdict(self):
+        tuned = [row(s) for s in (5, 7, 6, 8)]
+        shipped = [row(s) for s in (4, 5, 6, 5)]
+        b, s, d, low, high = objective.paired_verdict(tuned, shipped)
+        self.assertEqual((b, s, d), (6.5, 5.0, 1.5))
+        # differences 1, 2, 0, 3: sd 1.29, t(3) 3.182: half-width 2.05
+        self.assertAlmostEqual(high - d, 3.182446 * math.sqrt(5.0 / 3.0) / 2.0, places=4)
+        self.assertAlmostEqual(d - low, high - d)
+        self.assertLess(low, 0.0, 'four matches cannot tell this from luck')
+
+    def test_one_seed_has_no_interval(self):
+        b, s, d, low, high = objective.paired_verdict([row(5)], [row(3)])
+        self.assertEqual(d, 2.0)
+        self.assertTrue(math.isnan(low) and math.isnan(high))
+        self.assertEqual(objective.closing_line(2, b, s, d, low, high),
+                         'trials 2 best_score 5.00 baseline_score 3.00 improvement 2.00 ci95 [nan, nan]')
+
+    def test_the_verdict_needs_the_same_seeds(self):
+        with self.assertRaises(ValueError):
+            objective.paired_verdict([row(1)], [row(1), row(2)])
+
+
+class SpaceTest(unittest.TestCase):
+    def test_every_declared_parameter_is_the_robots(self):
+        params, weights = tune.load_space('eurobot2009')
+        self.assertTrue(params)
+        self.assertEqual(set(weights), set(objective.DEFAULTS))
+
+    def test_the_shipped_config_is_the_first_trial(self):
+        params, _ = tune.load_space('eurobot2009')
+        config = robot_config('eurobot2009')
+        point = tune.shipped_point(params, config)
+        self.assertIsNotNone(point, 'a shipped value lies outside its declared range')
+        values = tune.values_of(params, point)
+        for name, value in values.items():
+            self.assertEqual(tune.lookup(config, name), value)
+
+    def test_an_overlay_is_nested_as_the_config(self):
+        self.assertEqual(tune.overlay_of({'hal/driver/limits/max_linear_speed': 0.4, 'brain/match2009/approach': 0.2}),
+                         {'hal': {'driver': {'limits': {'max_linear_speed': 0.4}}}, 'brain': {'match2009': {'approach': 0.2}}})
+
+    def test_the_driver_accepts_every_speed_and_acceleration_in_range(self):
+        # The driver refuses a top speed it cannot stop from within avoidance/braking_distance.
+        params, _ = tune.load_space('eurobot2009')
+        config = robot_config('eurobot2009')
+        ranges = {p['name']: p for p in params}
+        speed = ranges['hal/driver/limits/max_linear_speed']['high']
+        accel = ranges['hal/driver/limits/max_linear_accel']['low']
+        self.assertLessEqual(speed ** 2 / (2 * accel), config['hal']['driver']['avoidance']['braking_distance'])
+
+
+if __name__ == '__main__':
+    unittest.main()
