@@ -10,7 +10,7 @@
 #                               blocker in turn), a row per match, report/matches/ (reports,
 #                               summary PNG; bags stay on remote workers unless FETCH_BAGS=1);
 #                               exits non-zero when a match broke an invariant
-#   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [CLUSTER=...] [WORKERS=W]  an Optuna
+#   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [CLUSTER=...] [WORKERS=W] [STORAGE=URL]  an Optuna
 #                               study over config/tune/ROBOT.yaml, SEEDS matches per trial, then
 #                               the best overlay against the shipped config on held-out seeds;
 #                               report/tune/; closing line `trials T best_score B baseline_score S
@@ -43,6 +43,7 @@ CLUSTER ?=
 WORKERS ?=
 TRIALS ?= 50
 SEEDS ?= 5
+STORAGE ?=
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 JOBS ?= 2
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -102,7 +103,8 @@ matches: build
 .PHONY: tune
 tune: build
 	$(SETUP) && python3 $(ROOT)/scripts/tune.py $(ROBOT) --trials $(TRIALS) --seeds $(SEEDS) --seed $(SEED) \
-	  --factor $(FACTOR) $(if $(CLUSTER),--cluster $(CLUSTER)) $(if $(WORKERS),--workers $(WORKERS))
+	  --factor $(FACTOR) $(if $(CLUSTER),--cluster $(CLUSTER)) $(if $(WORKERS),--workers $(WORKERS)) \
+	  $(if $(STORAGE),--storage $(STORAGE))
 
 # A Dask scheduler (port 8786) and workers for it, on any machine with this workspace built: the
 # workers need ROS's environment and scripts/ on their path; one single-threaded worker process
