@@ -23,6 +23,7 @@ Workers need this workspace on their machine and its environment (`make worker C
 """
 import collections
 import hashlib
+import json
 import logging
 import os
 import shutil
@@ -97,19 +98,8 @@ def _log_attempt(job):
 def key_of(job):
     """The task's key: one per run, match, parameter set and output folder, so a retry is the same task (and a
     scheduler that served earlier runs does not count their attempts as this run's)."""
-    params = hashlib.sha1(repr((job.out, sorted(flatten(job.params).items()))).encode()).hexdigest()[:10]
+    params = hashlib.sha1(json.dumps([job.out, job.params], sort_keys=True).encode()).hexdigest()[:10]
     return 'match-%s-seed%d-%s-%s' % (job.robot, job.seed, params, job.tag)
-
-
-def flatten(tree, prefix=''):
-    """{'hal/driver/max_speed': 0.5} of a nested dict."""
-    out = {}
-    for k, v in (tree or {}).items():
-        if isinstance(v, dict):
-            out.update(flatten(v, prefix + str(k) + '/'))
-        else:
-            out[prefix + str(k)] = v
-    return out
 
 
 def play(job, index=1, n=1):

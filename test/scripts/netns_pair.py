@@ -1,6 +1,8 @@
 """Two network namespaces of this machine joined by a veth pair and nothing else: the "two
 computers" of the distributed tests (test_product_distributed.py, test_matches_cluster.py).
 Needs root."""
+import os
+import signal
 import subprocess
 
 
@@ -23,3 +25,15 @@ def create(namespaces, veth, addresses):
 def delete(namespaces):
     for ns in namespaces:
         subprocess.run(['ip', 'netns', 'del', ns], stderr=subprocess.DEVNULL)  # removes the veth too
+
+
+def stop(proc):
+    """A process started in a session of its own (start_new_session): Ctrl-C to its whole group,
+    then SIGKILL if it is not gone within 15 s."""
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()

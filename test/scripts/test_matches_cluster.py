@@ -131,14 +131,8 @@ class MatchesClusterTest(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        for name, (p, _) in cls.procs.items():
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGINT)
-                try:
-                    p.wait(timeout=15)
-                except subprocess.TimeoutExpired:
-                    os.killpg(p.pid, signal.SIGKILL)
-                    p.wait()
+        for p, _ in cls.procs.values():
+            netns_pair.stop(p)
         netns_pair.delete((NS_SCHEDULER, NS_WORKERS))
         if cls.rc == 0:
             shutil.rmtree(cls.tmp, ignore_errors=True)

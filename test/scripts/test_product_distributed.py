@@ -12,7 +12,6 @@ Topics must flow both ways across the link: board state up to HAL in the other n
 the brain's lamp command down to the emulated firmware. Needs root (ip netns)."""
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -104,14 +103,8 @@ class DistributedTest(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        for name, p in reversed(cls.procs):
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGINT)
-                try:
-                    p.wait(timeout=15)
-                except subprocess.TimeoutExpired:
-                    os.killpg(p.pid, signal.SIGKILL)
-                    p.wait()
+        for _, p in reversed(cls.procs):
+            netns_pair.stop(p)
         netns_pair.delete((NS_ROBOT, NS_STATION))
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
