@@ -8,6 +8,11 @@
 //               send pending commands, read the variables, publish the latched state.
 //               Return true when the board answered; on failure call fail("why") and return false.
 //   halt()      on shutdown and whenever commands went stale: put the board in a safe state.
+//   check(ctx, report)  the hardware doctor only (`rosrun hcl_drivers doctor`), instead of init():
+//               read the same ~parameters, open the channel and probe the board (identity,
+//               firmware version, answers) without configuring, starting or driving anything;
+//               one row per finding into `report` (board_check.h). Never throws for a board that
+//               does not answer: that is a FAIL row with a hint.
 // Command callbacks run on the nodelet callback queue, concurrently with service(): guard
 // shared state with a mutex.
 #pragma once
@@ -19,6 +24,8 @@
 #include <string>
 
 #include <robot_core/parameters.h>
+
+#include "hcl_drivers/board_check.h"
 
 namespace hcl_drivers {
 
@@ -44,6 +51,9 @@ class Board {
 
   // Board-specific diagnostic values (firmware version, bus counters, ...). Optional.
   virtual void diagnose(diagnostic_updater::DiagnosticStatusWrapper& /*stat*/) {}
+
+  // The hardware doctor's probe (see above). Default: one WARN row saying the type has none.
+  virtual void check(BoardContext& ctx, CheckReport& report);
 
   // Read by the framework after service() returned false.
   const std::string& lastError() const { return last_error_; }

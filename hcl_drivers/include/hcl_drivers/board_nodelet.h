@@ -32,6 +32,8 @@ namespace hcl_drivers {
 class BoardNodeletBase : public nodelet::Nodelet {
  public:
   ~BoardNodeletBase() override;
+  // A fresh board of this plugin's type, not initialised: the hardware doctor calls its check().
+  std::unique_ptr<Board> newBoard() const { return createBoard(); }
 
  protected:
   virtual std::unique_ptr<Board> createBoard() const = 0;

@@ -8,6 +8,10 @@
 #include <ros/ros.h>
 
 #include <memory>
+#include <string>
+#include <vector>
+
+#include "hcl_drivers/board_check.h"
 
 #include "hcl_drivers/transport/i2c_bus.h"
 
@@ -20,5 +24,12 @@ struct I2cDevice {
 
 // Throws ParameterError naming the parameter and the allowed values.
 I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address_max);
+
+// The hardware doctor's part every I2C board shares: opens the device as above (no retries:
+// a chip that is there ACKs at once), declares the channel for the bus scan and reads `n` bytes
+// from register `reg` (the chip's identity registers) into `out`. False, with a FAIL row, when
+// the bus cannot be opened or the address does not ACK.
+bool checkI2cIdentity(const ros::NodeHandle& pnh, int address_min, int address_max, uint8_t reg, std::size_t n,
+                      I2cDevice& dev, std::vector<uint8_t>& out, CheckReport& report);
 
 }  // namespace hcl_drivers

@@ -16,6 +16,8 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <thread>
@@ -49,6 +51,43 @@ class Camera : public Board {
     state_pub_ = ctx.pnh.advertise<CameraState>("state", 1, true);
     running_ = true;
     grabber_ = std::thread([this] { grab(); });
+  }
+
+  // The doctor: the camera opens and delivers frames for ~check_window seconds (default 2):
+  // their size and rate against ~width/~height/~fps.
+  void check(BoardContext& ctx, CheckReport& report) override {
+    const std::string device = requireString(ctx.pnh, "device");
+    const int width = optionalInt(ctx.pnh, "width", 0), height = optionalInt(ctx.pnh, "height", 0);
+    const double fps = optionalDouble(ctx.pnh, "fps", 0.0);
+    const double window = optionalDouble(ctx.pnh, "check_window", 2.0);
+    transport::CameraSource source(device, width, height, fps);
+    std::string error;
+    if (!source.open(error)) {
+      report.fail("device", device, error, "is the camera plugged in (v4l2-ctl --list-devices)?");
+      return;
+    }
+    cv::Mat frame;
+    int frames = 0, w = 0, h = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto until = t0 + std::chrono::duration<double>(window);
+    while (std::chrono::steady_clock::now() < until && source.read(frame)) {
+      if (frame.empty()) continue;
+      ++frames;
+      w = frame.cols;
+      h = frame.rows;
+    }
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    char expected[64], found[96];
+    std::snprintf(expected, sizeof expected, "%dx%d at %.0f fps", width, height, fps);
+    std::snprintf(found, sizeof found, "%dx%d at %.1f fps (%d frames in %.1f s)", w, h, frames / std::max(elapsed, 1e-3), frames, elapsed);
+    if (frames == 0)
+      report.fail("frames", expected, "opened, but no frame", "the camera opened but delivers nothing: another process holding it?");
+    else if ((width && w != width) || (height && h != height))
+      report.fail("frames", expected, found, "the camera does not give the configured size: set ~width/~height to one it supports");
+    else if (fps > 0 && frames / elapsed < 0.7 * fps)
+      report.warn("frames", expected, found, "fewer frames than configured: light (exposure), USB bandwidth or CPU");
+    else
+      report.ok("frames", expected, found);
   }
 
   bool service() override {

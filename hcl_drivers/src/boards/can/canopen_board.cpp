@@ -8,20 +8,30 @@ namespace hcl_drivers {
 
 using transport::BusState;
 
-void CanopenBoard::init(BoardContext& ctx) {
-  name_ = ctx.name;
-  const std::string url = requireString(ctx.pnh, "bus");
+std::string CanopenBoard::busParam(const ros::NodeHandle& pnh) {
+  const std::string url = requireString(pnh, "bus");
   try {
     const auto ep = transport::parseEndpoint(url);
     if (ep.scheme != "socketcan" && ep.scheme != "udp") throw std::invalid_argument("not a CAN bus");
   } catch (const std::invalid_argument&) {
-    throw ParameterError("parameter " + qualified(ctx.pnh, "bus") + " = '" + url +
+    throw ParameterError("parameter " + qualified(pnh, "bus") + " = '" + url +
                          "': allowed values: socketcan://IFACE or udp://127.0.0.1:PORT");
   }
-  node_id_ = requireInt(ctx.pnh, "node_id");
-  if (!canopen::validNodeId(node_id_))
-    throw ParameterError("parameter " + qualified(ctx.pnh, "node_id") + " = " + std::to_string(node_id_) +
+  return url;
+}
+
+int CanopenBoard::nodeIdParam(const ros::NodeHandle& pnh) {
+  const int id = requireInt(pnh, "node_id");
+  if (!canopen::validNodeId(id))
+    throw ParameterError("parameter " + qualified(pnh, "node_id") + " = " + std::to_string(id) +
                          ": must be a CANopen node id 1..127");
+  return id;
+}
+
+void CanopenBoard::init(BoardContext& ctx) {
+  name_ = ctx.name;
+  const std::string url = busParam(ctx.pnh);
+  node_id_ = nodeIdParam(ctx.pnh);
   answer_timeout_ = optionalDouble(ctx.pnh, "answer_timeout", std::min(0.02, 0.5 / ctx.rate));
   requirePositive(ctx.pnh, "answer_timeout", answer_timeout_);
   sdo_timeout_ = optionalDouble(ctx.pnh, "sdo_timeout", 0.05);

@@ -36,6 +36,10 @@ class CanopenBoard : public Board {
   bool service() final;
   void halt() final;
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override;
+  // The doctor's probe (canopen_board_check.cpp): SDO reads of 0x1000, 0x1018 (identity),
+  // 0x1008/0x100A (name, software version) and a heartbeat; nothing is started or written
+  // except the producer heartbeat time, put back as it was.
+  void check(BoardContext& ctx, CheckReport& report) final;
 
  protected:
   using CanFrame = transport::CanFrame;
@@ -80,6 +84,9 @@ class CanopenBoard : public Board {
   const std::string& boardName() const { return name_; }
 
  private:
+  // ~bus and ~node_id, validated (ParameterError naming the parameter otherwise).
+  static std::string busParam(const ros::NodeHandle& pnh);
+  static int nodeIdParam(const ros::NodeHandle& pnh);
   std::shared_ptr<transport::CanBus> bus_;
   std::unique_ptr<canopen::RemoteNode> node_;
   std::string name_;

@@ -41,6 +41,30 @@ class ExampleBoard : public Board {
     lamp_sub_ = subscribeCommand<std_msgs::UInt8>(ctx, "lamp_pwm", [this](const std_msgs::UInt8::ConstPtr& m) { onLamp(m); });
   }
 
+  // The doctor: one request with the lamp off (its safe state) must get a well-formed answer.
+  void check(BoardContext& ctx, CheckReport& report) override {
+    const std::string url = requireString(ctx.pnh, "endpoint");
+    const auto ep = transport::parseEndpoint(url);
+    transport::UdpSocket socket(ep.host, ep.port);
+    if (!socket.send(example_protocol::encodeRequest(1, 0))) {
+      report.fail("answer", "an answer from " + url, socket.lastError(), "is the board's network up (ping its address)?");
+      return;
+    }
+    std::vector<uint8_t> datagram;
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(0.5);
+    int malformed = 0;
+    for (double left = 0.5; left > 0.0; left = (deadline - ros::WallTime::now()).toSec()) {
+      if (!socket.receive(datagram, left)) break;
+      if (example_protocol::decodeReply(datagram)) {
+        report.ok("answer", "an answer from " + url, "answers" + (malformed ? " (after " + std::to_string(malformed) + " malformed)" : std::string()));
+        return;
+      }
+      ++malformed;
+    }
+    report.fail("answer", "an answer from " + url, malformed ? std::to_string(malformed) + " malformed answers" : "no answer in 0.5 s",
+                "is the board powered and at this address and port?");
+  }
+
   bool service() override {
     const uint8_t lamp = lampToApply();
     const uint8_t seq = ++seq_;

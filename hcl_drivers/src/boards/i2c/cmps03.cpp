@@ -25,6 +25,19 @@ class CMPS03 : public Board {
     state_pub_ = ctx.pnh.advertise<CMPS03State>("state", 1, true);
   }
 
+  void check(BoardContext& ctx, CheckReport& report) override {
+    I2cDevice dev;
+    std::vector<uint8_t> raw;
+    if (!checkI2cIdentity(ctx.pnh, 0x08, 0x77, cmps03::kRegRevision, cmps03::kBlockSize, dev, raw, report)) return;
+    const auto r = cmps03::decodeBlock(raw);
+    if (r)
+      report.ok("identity", "CMPS03 revision and a bearing",
+                "revision " + std::to_string(r->revision) + ", bearing " + std::to_string(r->degrees()).substr(0, 5) + " deg");
+    else
+      report.fail("identity", "CMPS03 revision and a bearing", "bytes that are no CMPS03 bearing",
+                  "another chip answers at this address: check the address jumpers / the config's address");
+  }
+
   bool service() override {
     auto addr_lock = dev_.bus->lockAddress(dev_.address);
     std::string err;

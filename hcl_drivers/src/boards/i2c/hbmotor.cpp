@@ -39,6 +39,19 @@ class HBMotor : public Board {
     command_sub_ = subscribeCommand<MotorCommand>(ctx, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) { onCommand(m); });
   }
 
+  void check(BoardContext& ctx, CheckReport& report) override {
+    I2cDevice dev;
+    std::vector<uint8_t> raw;
+    if (!checkI2cIdentity(ctx.pnh, 0x08, 0x77, hbmotor::kRegVersion, hbmotor::kBlockSize, dev, raw, report)) return;
+    const auto b = hbmotor::decodeBlock(raw);
+    if (b)
+      report.ok("identity", "HBmotor register block",
+                "firmware version " + std::to_string(b->version) + ", status bits " + std::to_string(b->status));
+    else
+      report.fail("identity", "HBmotor register block", "bytes that are no HBmotor's (reserved status bits set)",
+                  "another chip answers at this address: check the board's address and the config");
+  }
+
   bool service() override {
     auto addr_lock = dev_.bus->lockAddress(dev_.address);
     std::string err;

@@ -36,4 +36,28 @@ I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address
   return d;
 }
 
+bool checkI2cIdentity(const ros::NodeHandle& pnh, int address_min, int address_max, uint8_t reg, std::size_t n,
+                      I2cDevice& dev, std::vector<uint8_t>& out, CheckReport& report) {
+  const std::string url = requireString(pnh, "bus");
+  char address[8];
+  std::snprintf(address, sizeof address, "0x%02x", static_cast<unsigned>(requireInt(pnh, "address")));
+  try {
+    dev = openI2cDevice(pnh, address_min, address_max);
+  } catch (const std::runtime_error& e) {  // ParameterError too: the doctor shows it as a row
+    report.fail("bus", url, e.what(), "is the I2C adapter plugged in (ls /dev/i2c-*) and the path in the config right?");
+    return false;
+  }
+  report.channel = {"i2c", url, dev.address, false};
+  dev.bus->setRetries(0);
+  std::string error;
+  if (dev.bus->readRegisters(dev.address, reg, n, out, error) != transport::I2cStatus::kOk) {
+    report.fail("address", std::string(address) + " ACKs on " + url, "no answer (" + error + ")",
+                "is the chip powered and wired? A chip at another address is named below");
+    return false;
+  }
+  report.channel.answered = true;
+  report.ok("address", std::string(address) + " ACKs on " + url, "ACK");
+  return true;
+}
+
 }  // namespace hcl_drivers

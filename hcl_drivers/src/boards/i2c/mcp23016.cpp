@@ -47,6 +47,32 @@ class MCP23016 : public Board {
     outputs_sub_ = subscribeCommand<std_msgs::UInt16>(ctx, "outputs", [this](const std_msgs::UInt16::ConstPtr& m) { onOutputs(m); });
   }
 
+  // Identity by read-back: the configured input polarity (IPOL, harmless: the driver writes
+  // the same at start) must read back as written.
+  void check(BoardContext& ctx, CheckReport& report) override {
+    I2cDevice dev;
+    std::vector<uint8_t> raw;
+    if (!checkI2cIdentity(ctx.pnh, mcp23016::kAddressMin, mcp23016::kAddressMax, mcp23016::kRegIpol0, 2, dev, raw, report))
+      return;
+    const int polarity = optionalInt(ctx.pnh, "input_polarity", 0);
+    std::string err;
+    std::vector<uint8_t> back;
+    char expected[32], found[48];
+    std::snprintf(expected, sizeof expected, "IPOL 0x%04x read back", polarity & 0xFFFF);
+    if (dev.bus->writeRegisters(dev.address, mcp23016::kRegIpol0, mcp23016::encodePair(static_cast<uint16_t>(polarity)), err) !=
+            transport::I2cStatus::kOk ||
+        dev.bus->readRegisters(dev.address, mcp23016::kRegIpol0, 2, back, err) != transport::I2cStatus::kOk) {
+      report.fail("identity", expected, "write/read failed: " + err, "check the wiring (SDA/SCL, pull-ups)");
+      return;
+    }
+    const uint16_t read = mcp23016::decodePair(back);
+    std::snprintf(found, sizeof found, "0x%04x", read);
+    if (read == (polarity & 0xFFFF))
+      report.ok("identity", expected, found);
+    else
+      report.fail("identity", expected, found, "another chip answers at this address: check its A0..A2 pins and the config");
+  }
+
   bool service() override {
     auto addr_lock = dev_.bus->lockAddress(dev_.address);
     std::string err;

@@ -42,6 +42,19 @@ class SRF02 : public Board {
     state_pub_ = ctx.pnh.advertise<SRF02State>("state", 1, true);
   }
 
+  void check(BoardContext& ctx, CheckReport& report) override {
+    I2cDevice dev;
+    std::vector<uint8_t> raw;
+    if (!checkI2cIdentity(ctx.pnh, srf02::kAddressMin, srf02::kAddressMax, srf02::kRegRevision, srf02::kResultSize, dev,
+                          raw, report))
+      return;
+    if (raw[0] == srf02::kBusy)
+      report.warn("identity", "SRF02 software revision", "0xFF: ranging in progress",
+                  "another master is ranging with it (is the product running?); run the doctor again");
+    else
+      report.ok("identity", "SRF02 software revision", "revision " + std::to_string(raw[0]));
+  }
+
   bool service() override {
     auto addr_lock = dev_.bus->lockAddress(dev_.address);
     std::string err;

@@ -18,6 +18,8 @@
 #include <sensor_msgs/Joy.h>
 
 #include <mutex>
+#include <chrono>
+#include <thread>
 
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/js_event.h"
@@ -38,6 +40,50 @@ class Joystick : public Board {
     frame_id_ = optionalString(ctx.pnh, "frame_id", "");
     joy_pub_ = ctx.pnh.advertise<sensor_msgs::Joy>("joy", 10);
     state_pub_ = ctx.pnh.advertise<JoystickState>("state", 1, true);
+  }
+
+  // The doctor: the device opens and reports its axes and buttons (JSIOCGAXES/JSIOCGBUTTONS,
+  // or the init events a FIFO delivers within ~check_window, default 1 s); compared with the
+  // optional ~axes / ~buttons the robot's config expects.
+  void check(BoardContext& ctx, CheckReport& report) override {
+    transport::JoystickDevice device(requireString(ctx.pnh, "device"));
+    const int want_axes = optionalInt(ctx.pnh, "axes", 0);
+    const int want_buttons = optionalInt(ctx.pnh, "buttons", 0);
+    const double window = optionalDouble(ctx.pnh, "check_window", 1.0);
+    std::string error;
+    const bool required = optionalBool(ctx.pnh, "required", true);
+    if (!device.open(error)) {
+      const std::string hint = "is it plugged in (ls -l " + device.path() + ")? make install-robot gives it this name";
+      if (required)
+        report.fail("device", device.path(), error, hint);
+      else
+        report.warn("device", device.path(), error + " (optional board)", hint);
+      return;
+    }
+    int axes = device.axes(), buttons = device.buttons();
+    if (axes == 0 && buttons == 0) {  // a FIFO: count the init events
+      js::Decoder decoder;
+      std::vector<js::Event> events;
+      std::vector<uint8_t> bytes;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(window);
+      while (std::chrono::steady_clock::now() < until && device.readAvailable(bytes, error)) {
+        decoder.feed(bytes.data(), bytes.size(), events);
+        bytes.clear();
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      for (const auto& e : events) {
+        if (e.type & js::kAxis) axes = std::max(axes, e.number + 1);
+        if (e.type & js::kButton) buttons = std::max(buttons, e.number + 1);
+      }
+    }
+    const std::string found = std::to_string(axes) + " axes, " + std::to_string(buttons) + " buttons" +
+                              (device.name().empty() || device.name() == device.path() ? "" : " ('" + device.name() + "')");
+    const std::string expected = (want_axes ? std::to_string(want_axes) : std::string("any")) + " axes, " +
+                                 (want_buttons ? std::to_string(want_buttons) : std::string("any")) + " buttons";
+    if ((want_axes && axes != want_axes) || (want_buttons && buttons != want_buttons))
+      report.fail("controls", expected, found, "another joystick model than the config's: set ~axes/~buttons or plug in the right one");
+    else
+      report.ok("controls", expected, found);
   }
 
   bool service() override {

@@ -21,6 +21,8 @@
 #include <hcl_drivers/BeaconReceiverState.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <mutex>
 #include <thread>
 
@@ -56,6 +58,58 @@ class BeaconReceiver : public Board {
     state_pub_ = ctx.pnh.advertise<BeaconReceiverState>("state", 1, true);
     running_ = true;
     reader_ = std::thread([this] { readLoop(); });
+  }
+
+  // The doctor: open the port at the configured speed, listen ~check_window seconds (default 2),
+  // parse what comes: frames, their rate, the beacons heard and the parse errors.
+  void check(BoardContext& ctx, CheckReport& report) override {
+    const std::string port = requireString(ctx.pnh, "port");
+    const int baud = optionalInt(ctx.pnh, "baud", 9600);
+    const int beacons = optionalInt(ctx.pnh, "beacons", 3);
+    const double window = optionalDouble(ctx.pnh, "check_window", 2.0);
+    transport::SerialPort serial(port, baud);
+    std::string error;
+    const std::string expected_port = port + " at " + std::to_string(baud) + " baud";
+    if (!serial.open(error)) {
+      report.fail("port", expected_port, error,
+                  "is the receiver plugged in (ls -l " + port + ")? make install-robot gives its USB adapter this name");
+      return;
+    }
+    report.ok("port", expected_port, "open");
+    beacon_protocol::Parser parser;
+    std::vector<beacon_protocol::Message> messages;
+    std::vector<bool> heard(10, false);
+    unsigned long bytes = 0;
+    uint8_t buf[256];
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(window);
+    while (std::chrono::steady_clock::now() < until) {
+      const long n = serial.read(buf, sizeof buf, 0.1, error);
+      if (n < 0) break;
+      bytes += static_cast<unsigned long>(n);
+      parser.feed(buf, static_cast<std::size_t>(n), messages);
+    }
+    for (const auto& m : messages) heard[m.beacon_id] = true;
+    const auto& st = parser.stats();
+    const unsigned long bad = st.checksum_errors + st.malformed;
+    char found[160];
+    std::snprintf(found, sizeof found, "%.1f frames/s, %lu parse errors (%.0f %%), %lu garbage bytes in %.1f s",
+                  messages.size() / window, bad, 100.0 * bad / std::max(1ul, bad + st.messages), st.garbage_bytes, window);
+    const std::string expected_frames = "$B frames from " + std::to_string(beacons) + " beacons";
+    if (messages.empty())
+      report.fail("frames", expected_frames, bytes ? std::string(found) : "no bytes in " + std::to_string(window).substr(0, 3) + " s" +
+                      (error.empty() ? "" : " (" + error + ")"),
+                  bytes ? "bytes but no valid frame: is the baud rate (" + std::to_string(baud) + ") the receiver's?"
+                        : "the receiver is silent: its power, its TX wire, the beacons' sync radio");
+    else if (bad || st.garbage_bytes)
+      report.warn("frames", expected_frames, found, "noise on the line: check the cable, its shield and the ground");
+    else
+      report.ok("frames", expected_frames, found);
+    std::string missing;
+    for (int id = 0; id < beacons; ++id)
+      if (!heard[id]) missing += (missing.empty() ? "" : ", ") + std::to_string(id);
+    if (!messages.empty() && !missing.empty())
+      report.warn("beacons", "beacons 0.." + std::to_string(beacons - 1) + " heard", "not heard: " + missing,
+                  "a beacon is off, or masked from the receiver where the robot stands");
   }
 
   bool service() override {

@@ -53,9 +53,12 @@ void CanopenFirmware::start(FirmwareContext& ctx) {
   addObject(0x1017, 0, {2, [this] { return static_cast<uint32_t>(heartbeat_ms_); },
                         [this](uint32_t v) { heartbeat_ms_ = static_cast<uint16_t>(v); return true; }});
   addObject(0x1018, 1, {4, [] { return 0x0000ED09u; }, nullptr});        // vendor id
+  addObject(0x1018, 2, {4, [] { return 0x00000001u; }, nullptr});        // product code
+  addObject(0x1018, 3, {4, [] { return 0x00010000u; }, nullptr});        // revision 1.0
   // Longer than 4 bytes: read and written by segmented SDO.
   device_name_ = "robot_sim " + name_;
   addBytesObject(0x1008, 0, {[this] { return device_name_; }, nullptr});  // device name
+  addBytesObject(0x100A, 0, {[] { return std::string("robot_sim 1.0"); }, nullptr});  // software version
   addBytesObject(0x2100, 0, {[this] { return user_label_; }, [this](const std::string& v) {
                                if (v.size() > 64) return false;
                                user_label_ = v;
