@@ -6,7 +6,7 @@
 // plugins as the HCL.
 //   ~hcl_ns        where the board blocks are (default /hcl)
 //   ~computer_ns   the config's computer section: CAN bitrates (default /computer)
-//   ~boards        only these blocks (default: all with a type and not `enabled: false`)
+//   ~boards        only these blocks, comma-separated (default: all with a type and not `enabled: false`)
 //   ~load_window   [s] listening for each CAN bus's load and errors (default 2)
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_loader.hpp>
@@ -63,8 +63,10 @@ int main(int argc, char** argv) {
   const std::string hcl_ns = pnh.param<std::string>("hcl_ns", "/hcl");
   const std::string computer_ns = pnh.param<std::string>("computer_ns", "/computer");
   const double load_window = pnh.param("load_window", 2.0);
-  std::vector<std::string> only;
-  pnh.getParam("boards", only);
+  std::vector<std::string> only;  // roscpp takes _boards:=a,b as one string
+  std::stringstream names(pnh.param<std::string>("boards", ""));
+  for (std::string name; std::getline(names, name, ',');)
+    if (!name.empty()) only.push_back(name);
   XmlRpc::XmlRpcValue blocks, computer;
   if (!ros::param::get(hcl_ns, blocks) || blocks.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
     std::cerr << "doctor: no board blocks under " << hcl_ns << std::endl;
