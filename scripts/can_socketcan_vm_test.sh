@@ -92,6 +92,19 @@ expect tpdo_status_answer '28A#[0-9A-F]{10}'
 expect rpdo_motor_command_300 '20A#2C010000'
 expect rtr_hmi_keys '194#R4?'
 expect cansend_injected_pdo '194#05000F03'
+# The hardware doctor over SocketCAN: its SDO reads of the motor board and its scan of the bus,
+# and what it concluded.
+expect doctor_sdo_read_device_type '60A#4000100000000000'
+expect doctor_sdo_read_identity '60A#4018100100000000'
+expect doctor_scan_unconfigured_node_1 '601#4000100000000000'
+doctor=$(tr -d '\n' < "$out/doctor.json" 2>/dev/null)
+if echo "$doctor" | grep -qE '"board": "motor_board", "check": "node", [^}]*"status": "OK"' &&
+   echo "$doctor" | grep -qE '"board": "motor_board", "check": "heartbeat", [^}]*"status": "OK"' &&
+   echo "$doctor" | grep -qE '"board": "bus vcan0", "check": "interface", [^}]*"status": "OK"'; then
+  junit doctor_finds_motor_board_on_vcan0 0 ""
+else
+  junit doctor_finds_motor_board_on_vcan0 1 "$(head -c 600 "$out/doctor.json" 2>/dev/null)"
+fi
 check=$(cat "$out/check.txt" 2>/dev/null)
 if echo "$check" | grep -q 'motor_answering=1'; then junit motor_board_answers_on_vcan0 0 ""; else junit motor_board_answers_on_vcan0 1 "$check"; fi
 if echo "$check" | grep -q 'motor_pwm_applied=\[300, 0\]'; then junit firmware_applies_command 0 ""; else junit firmware_applies_command 1 "$check"; fi

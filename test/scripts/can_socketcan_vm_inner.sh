@@ -4,7 +4,8 @@
 #   * the motor board driver (node 10) and its firmware emulator, both on socketcan://vcan0;
 #   * an HMI board driver (node 20) whose firmware is can-utils: every RTR it sends is answered
 #     by `cansend`, so an injected PDO must reach /hcl/hmi_inject/state;
-#   * candump -L logging every frame for the host to check byte-exact.
+#   * candump -L logging every frame for the host to check byte-exact;
+#   * then, with the driver stopped, the hardware doctor's engine (board_doctor) on vcan0.
 #   can_socketcan_vm_inner.sh <out dir (writable)> <devel space>
 set -u
 out=$1; devel=$2
@@ -51,6 +52,12 @@ log "nodes started"
 python3 "$here/can_socketcan_vm_check.py" > "$out/check.txt" 2>&1
 rc=$?
 log "check rc=$rc"
+# The hardware doctor over SocketCAN, with the product stopped: it must find the emulated motor
+# board (SDO 0x1000/0x1018, heartbeat) and scan vcan0 for strangers; candump records its requests.
+kill "$(pgrep -f "$devel/lib/hcl_drivers/hcl_node")" 2>/dev/null
+sleep 0.5
+"$devel/lib/hcl_drivers/board_doctor" _boards:=motor_board _load_window:=1.0 > "$out/doctor.json" 2> /tmp/ros/doctor.log
+log "doctor rc=$?"
 sleep 0.5
 kill "$candump_pid" 2>/dev/null && wait "$candump_pid" 2>/dev/null  # candump flushes its log as it exits
 cp /tmp/ros/*.log "$out/" 2>/dev/null
