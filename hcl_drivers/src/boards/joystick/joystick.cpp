@@ -13,6 +13,7 @@
 //   ~publish_rate    [Hz] repeat rate when nothing changes (default 10, <= rate)
 //   ~reopen_period   [s] (default 0.5)
 //   ~frame_id        Joy header frame (default "")
+//   ~axes ~buttons   what the doctor expects the device to report (default 0: anything)
 // Topics: ~joy (sensor_msgs/Joy), ~state (hcl_drivers/JoystickState, latched, raw mirror).
 #include <hcl_drivers/JoystickState.h>
 #include <sensor_msgs/Joy.h>
