@@ -1,5 +1,6 @@
 #include "hal_nodes/effector_supervisor.h"
 
+#include <robot_core/command_gate.h>
 #include <std_msgs/Bool.h>
 
 namespace hal_nodes {
@@ -9,10 +10,22 @@ EffectorSupervisor::EffectorSupervisor(ros::NodeHandle nh) : nh_(nh) {
   std_msgs::Bool initial;
   initial.data = false;
   state_pub_.publish(initial);
-  deactivate_srv_ = nh.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
-      "/effectors/deactivate", [this](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) { return set(true, res); });
-  activate_srv_ = nh.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
-      "/effectors/activate", [this](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) { return set(false, res); });
+  using Event = ros::ServiceEvent<std_srvs::Trigger::Request, std_srvs::Trigger::Response>;
+  robot_core::CommandGate::instance();  // now: it must know the match before the first call
+  // A caller outside the robot's network is refused during a match (robot_core/command_gate.h).
+  auto gated = [](bool deactivate, EffectorSupervisor* self) {
+    return [deactivate, self](Event& event) {
+      const std::string what = deactivate ? "/effectors/deactivate" : "/effectors/activate";
+      if (!robot_core::CommandGate::instance().accept(event.getCallerName(), what)) {
+        event.getResponse().success = false;
+        event.getResponse().message = "refused: " + event.getCallerName() + " is outside the robot's network and a match runs";
+        return true;
+      }
+      return self->set(deactivate, event.getResponse());
+    };
+  };
+  deactivate_srv_ = nh.advertiseService<Event>("/effectors/deactivate", boost::function<bool(Event&)>(gated(true, this)));
+  activate_srv_ = nh.advertiseService<Event>("/effectors/activate", boost::function<bool(Event&)>(gated(false, this)));
   match_end_sub_ = nh.subscribe("/effectors/match_end", 1, &EffectorSupervisor::onMatchEnd, this);
 }
 

@@ -79,6 +79,18 @@ class Device {
     return input;
   }
 
+  // A command input (velocity, lamp, ...): like addInput, and a sender outside the robot's
+  // network is not obeyed during a match (robot_core/command_gate.h).
+  template <class M>
+  std::shared_ptr<LatestValue<M>> addCommandInput(ros::NodeHandle& nh, const std::string& topic, const std::string& name,
+                                                  Wake wake = Wake::kOnTick) {
+    typename LatestValue<M>::OnArrival on_arrival;
+    if (wake == Wake::kOnArrival && wake_) on_arrival = wake_;
+    auto input = std::make_shared<LatestValue<M>>(nh, topic, name, on_arrival, true);
+    inputs_.push_back(input);
+    return input;
+  }
+
   // For a device that subscribes on its own (a queue of every message, not addInput's newest
   // value): a message stamped `stamp` arrived that should run refresh() at once, as a
   // Wake::kOnArrival input does.

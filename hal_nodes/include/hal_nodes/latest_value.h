@@ -10,6 +10,7 @@
 
 #include <ros/message_traits.h>
 #include <ros/ros.h>
+#include <robot_core/command_gate.h>
 
 #include <functional>
 #include <limits>
@@ -92,15 +93,25 @@ class LatestValue : public InputStatus {
   // the board exchange it comes from; zero when it has none (a velocity command: each message
   // is news of its own, however close in time to the last): it wakes the reading device.
   using OnArrival = std::function<void(const ros::Time& stamp)>;
-  LatestValue(ros::NodeHandle& nh, const std::string& topic, std::string name, OnArrival on_arrival = nullptr)
+  // `command`: a command topic (a velocity, a lamp): its messages pass robot_core's CommandGate
+  // first, so a sender outside the robot's network is not obeyed during a match.
+  LatestValue(ros::NodeHandle& nh, const std::string& topic, std::string name, OnArrival on_arrival = nullptr,
+              bool command = false)
       : name_(std::move(name)), topic_(nh.resolveName(topic)), on_arrival_(std::move(on_arrival)) {
-    sub_ = nh.subscribe<M>(topic, 1, [this](const ConstPtr& m) {
-      cache_.store(m, ros::Time::now());
-      if (on_arrival_) {
-        const ros::Time* own = LatestValueCache<M>::headerStamp(*m);
-        on_arrival_(own ? *own : ros::Time());
-      }
-    }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+    if (command) robot_core::CommandGate::instance();  // now: it must know the match before the first command
+    ros::SubscribeOptions ops;
+    ops.template initByFullCallbackType<const ros::MessageEvent<M const>&>(
+        topic_, 1, [this, command](const ros::MessageEvent<M const>& event) {
+          if (command && !robot_core::CommandGate::instance().accept(event.getPublisherName(), topic_)) return;
+          const ConstPtr& m = event.getConstMessage();
+          cache_.store(m, ros::Time::now());
+          if (on_arrival_) {
+            const ros::Time* own = LatestValueCache<M>::headerStamp(*m);
+            on_arrival_(own ? *own : ros::Time());
+          }
+        });
+    ops.transport_hints = ros::TransportHints().tcpNoDelay();
+    sub_ = nh.subscribe(ops);
   }
 
   ConstPtr newest() const { return cache_.newest(); }

@@ -161,13 +161,57 @@ class Brain(object):
                 self._start_sub = rospy.Subscriber(self.start_topic, HumanInput, self._on_hmi, queue_size=1)
         if self.timer is not None and self.saved_match:
             self._resume_match(self.saved_match)
-        rospy.Service('~start', Trigger, self._srv_start)
-        rospy.Service('~switch_strategy', SwitchStrategy, self._srv_switch)
-        rospy.Service('~start_action', StartAction, self._srv_start_action)
-        rospy.Service('~stop_action', Trigger, self._srv_stop_action)
+        self._start_command_gate()
+        from smart_brain.srv import StartActionResponse, SwitchStrategyResponse
+        rospy.Service('~start', Trigger, self._gated('~start', self._srv_start, lambda why: TriggerResponse(False, why)))
+        rospy.Service('~switch_strategy', SwitchStrategy, self._gated(
+            '~switch_strategy', self._srv_switch, lambda why: SwitchStrategyResponse(False, why, [])))
+        rospy.Service('~start_action', StartAction, self._gated(
+            '~start_action', self._srv_start_action, lambda why: StartActionResponse(False, why)))
+        rospy.Service('~stop_action', Trigger, self._gated(
+            '~stop_action', self._srv_stop_action, lambda why: TriggerResponse(False, why)))
         self._status_timer = rospy.Timer(rospy.Duration(0.2), lambda _ev: self.publish_status())
         self._ready_thread = threading.Thread(target=self._watch_readiness, name='readiness', daemon=True)
         self._ready_thread.start()
+
+    # ---- commands from outside the robot (robot_core/robot_network.py) ----
+    def _start_command_gate(self):
+        """A caller of the brain's services from outside the robot's network is refused while a
+        match runs (/effectors/match_end in the future, as HAL's gate judges it), obeyed otherwise;
+        both said on /diagnostics once a second."""
+        import rosgraph
+        from diagnostic_msgs.msg import DiagnosticArray
+        from robot_core.robot_network import CommandGate, RobotNetwork
+        self._match_end = None
+        rospy.Subscriber(rospy.get_param('~match/end_topic', '/effectors/match_end'), self._Time,
+                         lambda m: setattr(self, '_match_end', m.data), queue_size=1)
+        try:
+            network = RobotNetwork.from_param_server()
+        except ValueError as e:
+            rospy.logerr('brain: %s; only this computer is trusted', e)
+            network = RobotNetwork()
+        self.command_gate = CommandGate(network, rosgraph.Master(rospy.get_name()), lambda: bool(
+            self._match_end and not self._match_end.is_zero() and rospy.Time.now() < self._match_end))
+        gate_pub = rospy.Publisher('/diagnostics', DiagnosticArray, queue_size=5)
+
+        def report(_event):
+            statuses = self.command_gate.statuses(rospy.get_name())
+            if statuses:
+                gate_pub.publish(DiagnosticArray(status=statuses))
+        self._gate_timer = rospy.Timer(rospy.Duration(1.0), report)
+
+    def _gated(self, name, handler, refuse):
+        """`handler` behind the command gate; `refuse(why)` is the answer to a refused caller."""
+        service = rospy.resolve_name(name)
+
+        def call(req):
+            caller = getattr(req, '_connection_header', {}).get('callerid', '')
+            if not self.command_gate.accept(caller, service):
+                rospy.logerr_throttle(1.0, 'brain: %s called by %s from outside the robot\'s network during the '
+                                      'match: refused' % (service, caller))
+                return refuse('refused: %s is outside the robot\'s network and a match runs' % caller)
+            return handler(req)
+        return call
 
     # ---- readiness (before the start) ----
     def _watch_readiness(self):

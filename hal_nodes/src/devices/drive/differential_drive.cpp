@@ -69,12 +69,12 @@ class DifferentialDrive : public Effector {
     }
     if (!has_left || !has_right)
       throw ParameterError("parameter " + qualified(ctx.pnh, "wheels") + " needs at least one wheel with side: left and one with side: right");
-    cmd_ = addInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel", Wake::kOnArrival);
+    cmd_ = addCommandInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel", Wake::kOnArrival);
     teleop_timeout_ = optionalDouble(ctx.pnh, "teleop_timeout", 0.5);
     requirePositive(ctx.pnh, "teleop_timeout", teleop_timeout_);
     const std::string teleop_topic = optionalString(ctx.pnh, "teleop_topic", "/cmd_vel");
     if (!teleop_topic.empty()) {
-      teleop_ = addInput<geometry_msgs::Twist>(ctx.nh, teleop_topic, "teleop", Wake::kOnArrival);
+      teleop_ = addCommandInput<geometry_msgs::Twist>(ctx.nh, teleop_topic, "teleop", Wake::kOnArrival);
       match_end_sub_ = ctx.nh.subscribe<std_msgs::Time>("/effectors/match_end", 1, [this](const std_msgs::Time::ConstPtr& m) {
         std::lock_guard<std::mutex> lk(match_mutex_);
         match_end_ = m->data;

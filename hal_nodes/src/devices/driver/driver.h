@@ -140,7 +140,7 @@ class Driver : public Effector {
   void predictToNow(const nav_msgs::Odometry& o, Pose2D* pose) const;
   bool odomPose(Pose2D* pose);
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& msg);
-  void onPathEdit(const PathEdit::ConstPtr& e);
+  void onPathEdit(const ros::MessageEvent<PathEdit const>& event);
 
   // Obstacle points in the map from the rangers (via tf) and the tracked opponent.
   std::vector<Point2D> obstacles(const Pose2D& robot);
@@ -178,7 +178,7 @@ class Driver : public Effector {
   // move_base's interface (driver_move_base.cpp): its goal becomes a goto of ours.
   void startMoveBaseServer(ros::NodeHandle& nh);
   void startMoveBase(const move_base_msgs::MoveBaseGoal& g);
-  void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& goal);
+  void onSimpleGoal(const ros::MessageEvent<geometry_msgs::PoseStamped const>& event);
   void endMoveBase(uint8_t code, const std::string& message, bool success);
   void publishMoveBaseFeedback(const Pose2D& pose);
   void startStraight(const GoStraightGoal& g);

@@ -1,6 +1,8 @@
 // The Driver device (driver.h): its inputs: the pose it steers by, the drive effector's status, path edits and obstacles.
 #include "driver.h"
 
+#include <robot_core/command_gate.h>
+
 namespace hal_nodes {
 
 void Driver::updatePose() {
@@ -75,7 +77,9 @@ void Driver::onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& msg
   }
 }
 
-void Driver::onPathEdit(const PathEdit::ConstPtr& e) {
+void Driver::onPathEdit(const ros::MessageEvent<PathEdit const>& event) {
+  if (!robot_core::CommandGate::instance().accept(event.getPublisherName(), "path_edit")) return;
+  const PathEdit::ConstPtr& e = event.getConstMessage();
   if (mode_ != Mode::PATH) {
     ++edits_dropped_;
     ROS_WARN_THROTTLE(1.0, "driver: path edit ignored, no follow_path goal running");

@@ -9,6 +9,8 @@
 
 #include "driver.h"
 
+#include <robot_core/command_gate.h>
+
 namespace hal_nodes {
 
 void Driver::startMoveBaseServer(ros::NodeHandle& nh) {
@@ -21,7 +23,9 @@ void Driver::startMoveBaseServer(ros::NodeHandle& nh) {
   simple_goal_sub_ = nh.subscribe("/move_base_simple/goal", 1, &Driver::onSimpleGoal, this);
 }
 
-void Driver::onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& goal) {
+void Driver::onSimpleGoal(const ros::MessageEvent<geometry_msgs::PoseStamped const>& event) {
+  if (!robot_core::CommandGate::instance().accept(event.getPublisherName(), "/move_base_simple/goal")) return;
+  const geometry_msgs::PoseStamped::ConstPtr& goal = event.getConstMessage();
   move_base_msgs::MoveBaseActionGoal g;
   g.header.stamp = ros::Time::now();  // an empty goal id: actionlib gives it one
   g.goal.target_pose = *goal;

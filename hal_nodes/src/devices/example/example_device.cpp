@@ -33,7 +33,7 @@ class ExampleDevice : public Effector {
     requireInRange(ctx.pnh, "warn_above", warn_above_, 0.0, 1.0);
     board_ = addInput<hcl_drivers::ExampleBoardState>(
         ctx.nh, optionalString(ctx.pnh, "board_state", "/hcl/example_board/state"), "board");
-    brightness_ = addInput<std_msgs::Float64>(ctx.pnh, "lamp", "lamp command");
+    brightness_ = addCommandInput<std_msgs::Float64>(ctx.pnh, "lamp", "lamp command");
     lamp_pub_ = ctx.nh.advertise<std_msgs::UInt8>(optionalString(ctx.pnh, "board_lamp", "/hcl/example_board/lamp_pwm"), 1);
     reading_pub_ = ctx.pnh.advertise<ExampleReading>("reading", 1);
   }

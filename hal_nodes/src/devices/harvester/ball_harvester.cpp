@@ -30,7 +30,7 @@ class BallHarvester : public Effector {
     max_value_ = requireInt(ctx.pnh, "max_value");
     if (max_value_ == 0) throw ParameterError("parameter " + qualified(ctx.pnh, "max_value") + " = 0: must be non-zero");
     motor_pub_ = ctx.nh.advertise<MotorCommand>(requireString(ctx.pnh, "motor_topic"), 1);
-    speed_ = addInput<std_msgs::Float64>(ctx.pnh, "speed", "speed");
+    speed_ = addCommandInput<std_msgs::Float64>(ctx.pnh, "speed", "speed");
     if (ctx.pnh.hasParam("ball_sensor")) {
       sensor_ = ContactSpec::read(ctx.pnh, "ball_sensor");
       sensor_input_ = addInput<DigitalInputs>(ctx.nh, sensor_->topic, "ball sensor");

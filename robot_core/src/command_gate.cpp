@@ -1,0 +1,214 @@
+#include "robot_core/command_gate.h"
+
+#include <arpa/inet.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ifaddrs.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <ros/master.h>
+
+#include <sstream>
+#include <stdexcept>
+
+namespace robot_core {
+
+namespace {
+
+constexpr double kLookupTtl = 10.0;  // [s] a sender's host is asked again after this long
+
+double wallNow() { return ros::WallTime::now().toSec(); }
+
+// The IPv4 address `host` (a dotted address or a name) stands for; false when it resolves to none.
+bool resolve(const std::string& host, uint32_t& out) {
+  in_addr a{};
+  if (inet_pton(AF_INET, host.c_str(), &a) == 1) {
+    out = ntohl(a.s_addr);
+    return true;
+  }
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  addrinfo* res = nullptr;
+  if (getaddrinfo(host.c_str(), nullptr, &hints, &res) != 0 || !res) return false;
+  out = ntohl(reinterpret_cast<sockaddr_in*>(res->ai_addr)->sin_addr.s_addr);
+  freeaddrinfo(res);
+  return true;
+}
+
+std::string dotted(uint32_t a) {
+  in_addr n{};
+  n.s_addr = htonl(a);
+  char buf[INET_ADDRSTRLEN];
+  inet_ntop(AF_INET, &n, buf, sizeof buf);
+  return buf;
+}
+
+// The strings of parameter `name` (a string or a list of strings); none when absent.
+std::vector<std::string> stringsParam(const std::string& name) {
+  std::vector<std::string> out;
+  XmlRpc::XmlRpcValue v;
+  if (!ros::param::get(name, v)) return out;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) out.push_back(static_cast<std::string>(v));
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeArray)
+    for (int i = 0; i < v.size(); ++i)
+      if (v[i].getType() == XmlRpc::XmlRpcValue::TypeString) out.push_back(static_cast<std::string>(v[i]));
+  return out;
+}
+
+}  // namespace
+
+bool Ipv4Net::contains(uint32_t a) const {
+  const uint32_t mask = prefix == 0 ? 0u : ~0u << (32 - prefix);
+  return (a & mask) == (address & mask);
+}
+
+Ipv4Net Ipv4Net::parse(const std::string& text) {
+  Ipv4Net net;
+  const auto slash = text.find('/');
+  const std::string addr = text.substr(0, slash);
+  in_addr a{};
+  if (inet_pton(AF_INET, addr.c_str(), &a) != 1) throw std::invalid_argument("'" + text + "' is no IPv4 address or network");
+  net.address = ntohl(a.s_addr);
+  if (slash != std::string::npos) {
+    try {
+      net.prefix = std::stoi(text.substr(slash + 1));
+    } catch (const std::exception&) {
+      net.prefix = -1;
+    }
+    if (net.prefix < 0 || net.prefix > 32) throw std::invalid_argument("'" + text + "': the prefix must be 0..32");
+  }
+  return net;
+}
+
+RobotNetwork::RobotNetwork(const std::vector<std::string>& trusted) {
+  nets_.push_back(Ipv4Net::parse("127.0.0.0/8"));
+  for (const auto& t : trusted) nets_.push_back(Ipv4Net::parse(t));
+  // This computer's own addresses: a node here that registered with its LAN address is ours.
+  ifaddrs* list = nullptr;
+  if (getifaddrs(&list) == 0) {
+    for (ifaddrs* i = list; i; i = i->ifa_next)
+      if (i->ifa_addr && i->ifa_addr->sa_family == AF_INET) {
+        Ipv4Net own;
+        own.address = ntohl(reinterpret_cast<sockaddr_in*>(i->ifa_addr)->sin_addr.s_addr);
+        nets_.push_back(own);
+      }
+    freeifaddrs(list);
+  }
+}
+
+RobotNetwork RobotNetwork::fromParameters() {
+  std::vector<std::string> trusted;
+  for (const char* key : {"address", "robot_hosts", "allow"})
+    for (const auto& s : stringsParam(std::string("/computer/network/") + key)) trusted.push_back(s);
+  try {
+    return RobotNetwork(trusted);
+  } catch (const std::invalid_argument& e) {
+    ROS_ERROR("command gate: parameter /computer/network: %s; only this computer is trusted", e.what());
+    return RobotNetwork(std::vector<std::string>{});
+  }
+}
+
+bool RobotNetwork::trusted(uint32_t address) const {
+  for (const auto& n : nets_)
+    if (n.contains(address)) return true;
+  return false;
+}
+
+bool RobotNetwork::trusted(const std::string& dotted_address) const {
+  uint32_t a = 0;
+  return resolve(dotted_address, a) && trusted(a);
+}
+
+CommandGate& CommandGate::instance() {
+  static CommandGate gate;
+  return gate;
+}
+
+CommandGate::CommandGate() : network_(RobotNetwork::fromParameters()) {
+  ros::NodeHandle nh;
+  match_end_sub_ = nh.subscribe<std_msgs::Time>("/effectors/match_end", 1, [this](const std_msgs::Time::ConstPtr& m) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    match_end_ = m->data;
+  });
+  diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  report_timer_ = nh.createWallTimer(ros::WallDuration(1.0), &CommandGate::report, this);
+}
+
+bool CommandGate::matchRunning() const {
+  return !match_end_.isZero() && ros::Time::now() < match_end_;
+}
+
+CommandGate::Sender& CommandGate::lookup(const std::string& caller) {
+  Sender& s = senders_[caller];
+  if (wallNow() - s.looked_up < kLookupTtl) return s;
+  s.looked_up = wallNow();
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = caller;
+  std::string uri;
+  if (ros::master::execute("lookupNode", args, result, payload, false) && payload.getType() == XmlRpc::XmlRpcValue::TypeString)
+    uri = static_cast<std::string>(payload);
+  // http://HOST:PORT/
+  const auto start = uri.find("://");
+  const std::string host = start == std::string::npos ? "" : uri.substr(start + 3, uri.find(':', start + 3) - start - 3);
+  uint32_t a = 0;
+  if (host.empty()) {
+    s.host = "unknown to the master";
+    s.foreign = true;
+  } else if (!resolve(host, a)) {
+    s.host = host + " (unresolved)";
+    s.foreign = true;
+  } else {
+    s.host = dotted(a);
+    s.foreign = !network_.trusted(a);
+  }
+  return s;
+}
+
+bool CommandGate::accept(const std::string& caller, const std::string& what) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  Sender& s = lookup(caller);
+  if (!s.foreign) return true;
+  s.last_what = what;
+  if (!matchRunning()) {
+    ++s.obeyed;
+    ROS_WARN_THROTTLE(5.0, "command gate: %s from %s at %s, outside the robot's network (obeyed: no match running)",
+                      what.c_str(), caller.c_str(), s.host.c_str());
+    return true;
+  }
+  ++s.refused;
+  ROS_ERROR_THROTTLE(1.0, "command gate: %s from %s at %s, outside the robot's network, ignored during the match",
+                     what.c_str(), caller.c_str(), s.host.c_str());
+  return false;
+}
+
+void CommandGate::report(const ros::WallTimerEvent&) {
+  diagnostic_msgs::DiagnosticArray out;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    for (const auto& entry : senders_) {
+      const Sender& s = entry.second;
+      if (!s.foreign || (s.obeyed == 0 && s.refused == 0)) continue;
+      diagnostic_msgs::DiagnosticStatus st;
+      st.name = "command gate " + ros::this_node::getName() + ": " + entry.first;
+      st.hardware_id = s.host;
+      st.level = s.refused ? diagnostic_msgs::DiagnosticStatus::ERROR : diagnostic_msgs::DiagnosticStatus::WARN;
+      std::ostringstream m;
+      m << "commands from " << entry.first << " at " << s.host << ", outside the robot's network: " << s.refused
+        << " ignored during a match, " << s.obeyed << " obeyed outside a match (last: " << s.last_what << ")";
+      st.message = m.str();
+      diagnostic_msgs::KeyValue kv;
+      kv.key = "ignored";
+      kv.value = std::to_string(s.refused);
+      st.values.push_back(kv);
+      kv.key = "obeyed";
+      kv.value = std::to_string(s.obeyed);
+      st.values.push_back(kv);
+      out.status.push_back(st);
+    }
+  }
+  if (out.status.empty()) return;
+  out.header.stamp = ros::Time::now();
+  diagnostics_pub_.publish(out);
+}
+
+}  // namespace robot_core
