@@ -4,6 +4,8 @@ make uninstall-robot; README "The robot's computer").
 
     robot_install.py install ROBOT [--root DIR] [--dry-run] [--start]
     robot_install.py uninstall ROBOT [--root DIR] [--dry-run]
+    robot_install.py allow|deny ROBOT ADDR   (the running firewall's allow-list, until reboot)
+    robot_install.py status ROBOT            (the allow-list and the ros_dropped counter)
 
 What it installs comes from config/ROBOT.yaml, section `computer:` (none: only the service):
   * per CAN interface of `computer: can:`, a oneshot unit robot-can-IFACE.service bound to the
@@ -11,15 +13,21 @@ What it installs comes from config/ROBOT.yaml, section `computer:` (none: only t
     whenever the adapter appears), started now when the interface exists;
   * /etc/udev/rules.d/99-robot-ROBOT.rules: per `computer: devices:` entry, a rule giving the
     USB device the stable name its board block uses (hcl/<board>/port or device, /dev/robot/x);
-  * robot-ROBOT.service: `roslaunch launch/ROBOT.launch sim:=false` at boot, enabled, started
-    only with --start;
+  * /etc/robot/ROBOT.nft and robot-firewall-ROBOT.service: an nftables table of its own,
+    inet robot_ROBOT, accepting the ROS ports (master, XML-RPC and TCPROS/UDPROS servers on the
+    ephemeral ports) only from loopback, the robot's own addresses and `computer: network:
+    allow:`; the rest to them dropped and counted (ros_dropped). Enabled, loaded at install;
+  * robot-ROBOT.service: `roslaunch launch/ROBOT.launch sim:=false` at boot with ROS_IP and
+    ROS_MASTER_URI on `computer: network: address:` (default 127.0.0.1), after the firewall,
+    enabled, started only with --start;
   * /var/lib/robot/ROBOT/: the service's home (ROS_HOME, ROS_LOG_DIR) and installed.txt, the
     manifest uninstall removes (files, symlinks, then the directories it created, when empty).
 With --root DIR everything goes under DIR and nothing on this machine is called (systemctl,
-udevadm, ip); --dry-run only prints what it would do. One function per installed thing: each
+udevadm, ip, nft); --dry-run only prints what it would do. One function per installed thing: each
 returns the Items (files, enable symlinks, directories) it puts in place.
 """
 import argparse
+import ipaddress
 import os
 import re
 import shlex
@@ -33,6 +41,11 @@ UNIT_DIR = '/etc/systemd/system'
 RULES_DIR = '/etc/udev/rules.d'
 STATE_DIR = '/var/lib/robot'
 IP = '/sbin/ip'
+NFT = '/usr/sbin/nft'
+NFT_DIR = '/etc/robot'
+PORT_RANGE_FILE = '/proc/sys/net/ipv4/ip_local_port_range'
+DEFAULT_PORT_RANGE = (32768, 60999)   # Linux's default ip_local_port_range
+DEFAULT_NETWORK = {'address': '127.0.0.1', 'master_port': 11311, 'robot_hosts': [], 'allow': []}
 PATH = '/usr/bin:/bin:/usr/sbin:/sbin'
 IFACE_RE = re.compile(r'^[A-Za-z0-9_.-]{1,15}$')   # a Linux interface name (IFNAMSIZ - 1)
 USB_ID_RE = re.compile(r'^[0-9a-fA-F]{4}$')
@@ -110,7 +123,55 @@ def plan(robot, config):
             if not USB_ID_RE.match(str(spec[field])):
                 raise ConfigError('%s/%s: %r is not a 4-digit hex USB id' % (where, field, spec[field]))
         devices[board] = dict(spec, path=path, link=path[len('/dev/'):], key=key)
-    return {'can': can, 'devices': devices}
+    return {'can': can, 'devices': devices, 'network': network_plan(src, computer.get('network'))}
+
+
+def ipv4_network(text):
+    """An IPv4 address or CIDR network (no host bits set) as an IPv4Network; ValueError else."""
+    if isinstance(text, bool) or not isinstance(text, (str, int)) or ':' in str(text):
+        raise ValueError(text)
+    return ipaddress.IPv4Network(str(text).strip(), strict=True)
+
+
+def network_plan(src, network):
+    """computer/network validated, with its defaults (loopback, 11311, no other hosts): {'address':
+    '127.0.0.1', 'master_port': 11311, 'robot_hosts': [...], 'allow': [...]} (lists of str)."""
+    if network is None:
+        network = {}
+    if not isinstance(network, dict):
+        raise ConfigError('%s: computer/network: must be a mapping {address, master_port, robot_hosts, allow}' % src)
+    unknown = sorted(set(map(str, network)) - set(DEFAULT_NETWORK))
+    if unknown:
+        raise ConfigError('%s: computer/network/%s: unknown key (address, master_port, robot_hosts, allow)'
+                          % (src, unknown[0]))
+    out = dict(DEFAULT_NETWORK, **network)
+    address = out['address']
+    try:
+        if isinstance(address, bool) or not isinstance(address, (str, int)):
+            raise ValueError(address)
+        ip = ipaddress.IPv4Address(str(address).strip())
+    except ValueError:
+        raise ConfigError('%s: computer/network/address: %r is not an IPv4 address' % (src, address))
+    if ip.is_unspecified or ip.is_multicast:
+        raise ConfigError('%s: computer/network/address: %s is not an address of the robot' % (src, ip))
+    port = out['master_port']
+    if not isinstance(port, int) or isinstance(port, bool) or not 1 <= port <= 65535:
+        raise ConfigError('%s: computer/network/master_port: %r is not a port (1..65535)' % (src, port))
+    lists = {}
+    for key in ('robot_hosts', 'allow'):
+        value = out[key]
+        if value is None:
+            value = []
+        if not isinstance(value, list):
+            raise ConfigError('%s: computer/network/%s: must be a list of IPv4 addresses or networks' % (src, key))
+        lists[key] = []
+        for entry in value:
+            try:
+                lists[key].append(str(ipv4_network(entry)))
+            except ValueError:
+                raise ConfigError('%s: computer/network/%s: %r is not an IPv4 address or network (a.b.c.d or '
+                                  'a.b.c.0/24)' % (src, key, entry))
+    return {'address': str(ip), 'master_port': port, 'robot_hosts': lists['robot_hosts'], 'allow': lists['allow']}
 
 
 # ---- the installed things: one function each ----
@@ -185,8 +246,132 @@ def systemd_escape(text):
     return text.replace('%', '%%')
 
 
-def robot_service(robot, can, repo=REPO):
-    """robot-ROBOT.service: the robot's launch on the real robot, at boot, restarted on failure."""
+def read_port_range(path=PORT_RANGE_FILE):
+    """(low, high): the ephemeral ports this machine gives sockets bound to port 0, where roscpp's
+    and rospy's XML-RPC and TCPROS/UDPROS servers listen (net.ipv4.ip_local_port_range). Linux's
+    default (32768, 60999) when the file is not there."""
+    try:
+        with open(path) as f:
+            low, high = (int(v) for v in f.read().split())
+    except (IOError, OSError):
+        return DEFAULT_PORT_RANGE
+    except ValueError:
+        raise ConfigError('%s: not two port numbers' % path)
+    if not 1 <= low <= high <= 65535:
+        raise ConfigError('%s: %d %d is not a port range' % (path, low, high))
+    return low, high
+
+
+def table_name(robot):
+    return 'robot_%s' % robot
+
+
+def nft_path(robot):
+    return os.path.join(NFT_DIR, robot + '.nft')
+
+
+def firewall_unit_name(robot):
+    return 'robot-firewall-%s.service' % robot
+
+
+def allowed_elements(network):
+    """The set `allowed`: loopback, the robot's address, its other computers and the allow-list,
+    merged into non-overlapping networks (an nftables interval set refuses overlapping ones)."""
+    nets = [ipaddress.IPv4Network('127.0.0.0/8'), ipaddress.IPv4Network(network.get('address') or '127.0.0.1')]
+    nets += [ipv4_network(n) for n in list(network.get('robot_hosts') or []) + list(network.get('allow') or [])]
+    return [str(n) if n.prefixlen < 32 else str(n.network_address) for n in ipaddress.collapse_addresses(nets)]
+
+
+def firewall_rules(robot, network, port_range):
+    """The nftables ruleset of the robot (the text of /etc/robot/ROBOT.nft, for `nft -f`): a table
+    inet robot_ROBOT of its own, replaced whole on each load; TCP to the master port and TCP/UDP to
+    the ephemeral ports (port_range = (low, high)) accepted on loopback, for established
+    connections and from the set `allowed`, else dropped and counted in ros_dropped. Other ports
+    untouched. network: computer/network (address, master_port, robot_hosts, allow)."""
+    table = table_name(robot)
+    port = int(network.get('master_port', DEFAULT_NETWORK['master_port']))
+    low, high = (int(p) for p in port_range)
+    ephemeral = '%d-%d' % (low, high) if low < high else '%d' % low
+    ros_ports = [('tcp', str(port), 'the master (XML-RPC)'),
+                 ('tcp', ephemeral, 'the nodes\' XML-RPC and TCPROS servers (ephemeral ports)'),
+                 ('udp', ephemeral, 'UDPROS (ephemeral ports)')]
+    lines = [
+        '#!%s -f' % NFT,
+        '# Installed by make install-robot ROBOT=%s (scripts/robot_install.py); loaded by' % robot,
+        '# %s, removed by make uninstall-robot. From config/%s.yaml computer/network;' % (firewall_unit_name(robot), robot),
+        '# ephemeral ports %d-%d from %s at install.' % (low, high, PORT_RANGE_FILE),
+        '# ROS has no authentication: its ports (master %d, the nodes\' XML-RPC and TCPROS/UDPROS' % port,
+        '# servers on the ephemeral ports) only from the robot itself and the set `allowed`; the',
+        '# rest to them dropped and counted. For one match: make allow-laptop ROBOT=%s ADDR=...' % robot,
+        '# The table is replaced whole: declared (created when missing), deleted, declared again.',
+        'table inet %s' % table,
+        'delete table inet %s' % table,
+        '',
+        'table inet %s {' % table,
+        '	set allowed {',
+        '		type ipv4_addr',
+        '		flags interval',
+        '		elements = { %s }' % ', '.join(allowed_elements(network)),
+        '	}',
+        '',
+        '	counter ros_dropped {',
+        '	}',
+        '',
+        '	chain input {',
+        '		type filter hook input priority filter; policy accept;',
+        '		iif "lo" accept',
+        '		ct state established,related accept',
+    ]
+    for proto, ports, what in ros_ports:
+        lines.append('		%s dport %s ip saddr @allowed accept comment "%s"' % (proto, ports, what.replace('"', "'")))
+    for proto, ports, what in ros_ports:   # the rest, IPv6 included
+        lines.append('		%s dport %s counter name "ros_dropped" drop' % (proto, ports))
+    lines += ['	}', '}', '']
+    return '\n'.join(lines)
+
+
+def firewall_unit(robot):
+    """robot-firewall-ROBOT.service: loads /etc/robot/ROBOT.nft before the network and the robot
+    come up; stopping it deletes the table. Reload (nft -f again) leaves the robot running."""
+    table = table_name(robot)
+    text = '\n'.join([
+        '# Installed by make install-robot ROBOT=%s (scripts/robot_install.py); removed by' % robot,
+        '# make uninstall-robot. The rules: %s; loaded: nft list table inet %s' % (nft_path(robot), table),
+        '[Unit]',
+        'Description=Firewall of robot %s\'s ROS ports (nftables table inet %s)' % (robot, table),
+        'Documentation=man:nft(8)',
+        '# Like Debian\'s nftables.service: in place before any network interface is up.',
+        'DefaultDependencies=no',
+        'Wants=network-pre.target',
+        'After=nftables.service',
+        'Before=network-pre.target shutdown.target %s' % service_name(robot),
+        'Conflicts=shutdown.target',
+        '',
+        '[Service]',
+        'Type=oneshot',
+        'RemainAfterExit=yes',
+        'ExecStart=%s -f %s' % (NFT, nft_path(robot)),
+        'ExecReload=%s -f %s' % (NFT, nft_path(robot)),
+        'ExecStop=-%s delete table inet %s' % (NFT, table),
+        '',
+        '[Install]',
+        'WantedBy=multi-user.target',
+        ''])
+    name = firewall_unit_name(robot)
+    return [Item(os.path.join(UNIT_DIR, name), text),
+            Item(os.path.join(UNIT_DIR, 'multi-user.target.wants', name), link=os.path.join(UNIT_DIR, name))]
+
+
+def firewall(robot, network, port_range):
+    """/etc/robot/ROBOT.nft and the unit that loads it."""
+    return [Item(NFT_DIR, directory=True), Item(nft_path(robot), firewall_rules(robot, network, port_range))] + \
+        firewall_unit(robot)
+
+
+def robot_service(robot, can, repo=REPO, network=None):
+    """robot-ROBOT.service: the robot's launch on the real robot, at boot, restarted on failure;
+    its master and nodes on the robot's address, after its firewall."""
+    network = network or DEFAULT_NETWORK
     home = state_dir(robot)
     cans = ' '.join(can_unit_name(i) for i in sorted(can))
     script = 'set +u; source %s && exec roslaunch %s sim:=false' % (
@@ -197,14 +382,21 @@ def robot_service(robot, can, repo=REPO):
         '# make uninstall-robot. Logs: journalctl -u robot-%s; restart: systemctl restart robot-%s' % (robot, robot),
         '[Unit]',
         'Description=Robot %s: roslaunch launch/%s.launch sim:=false' % (robot, robot),
+        '# No firewall, no robot: ROS has no authentication (README "Nobody outside the robot drives it")',
+        'Requires=%s' % firewall_unit_name(robot),
         'Wants=network-online.target' + (' ' + cans if cans else ''),
-        'After=network-online.target' + (' ' + cans if cans else ''),
+        'After=network-online.target %s' % firewall_unit_name(robot) + (' ' + cans if cans else ''),
         '',
         '[Service]',
         'Type=simple',
         'Environment=PATH=%s' % PATH,
         'Environment=HOME=%s ROS_HOME=%s ROS_LOG_DIR=%s' % (home, os.path.join(home, 'ros'), os.path.join(home, 'log')),
         'Environment=PYTHONNOUSERSITE=1 ROS_PYTHON_VERSION=3',
+        '# The master and every node on the robot\'s address (computer/network/address); rosmaster and',
+        '# rospy bind only loopback when it is loopback, roscpp binds all: the firewall does the rest',
+        'Environment=ROS_IP=%s ROS_MASTER_URI=http://%s:%d' % (network['address'], network['address'],
+                                                              network['master_port']),
+        'UnsetEnvironment=ROS_HOSTNAME',
         'WorkingDirectory=%s' % home,
         'ExecStart=/bin/bash -c %s' % systemd_escape(shlex.quote(script)),
         'Restart=on-failure',
@@ -229,16 +421,18 @@ def manifest_path(robot):
     return os.path.join(state_dir(robot), 'installed.txt')
 
 
-def items(robot, config, repo=REPO):
+def items(robot, config, repo=REPO, port_range=None):
     """Everything install puts in place, in order (the manifest is written last)."""
     p = plan(robot, config)
+    port_range = port_range or read_port_range()
     home = state_dir(robot)
     out = [Item(STATE_DIR, directory=True), Item(home, directory=True),
            Item(os.path.join(home, 'ros'), directory=True), Item(os.path.join(home, 'log'), directory=True)]
     for iface, bitrate in sorted(p['can'].items()):
         out += can_unit(robot, iface, bitrate)
     out += udev_rules(robot, p['devices'])
-    out += robot_service(robot, p['can'], repo)
+    out += firewall(robot, p['network'], port_range)
+    out += robot_service(robot, p['can'], repo, p['network'])
     return p, out
 
 
@@ -384,7 +578,7 @@ def install(robot, host, start=False, repo=REPO):
 def activate(robot, p, host, start):
     """systemd and udev take the new files; CAN up now where the interface exists."""
     if host.staging:
-        host.say('staging root %s: no systemctl, udevadm or ip calls' % host.root)
+        host.say('staging root %s: no systemctl, udevadm, ip or nft calls' % host.root)
         return
     systemd = host.dry_run or host.systemd_running()
     if systemd:
@@ -397,6 +591,12 @@ def activate(robot, p, host, start):
                      % (iface, can_unit_name(iface), p['can'][iface]))
         elif systemd:
             host.run(['systemctl', 'restart', can_unit_name(iface)])
+    rules = nft_path(robot)
+    if systemd:   # reload: new rules, the robot (Requires= it) not restarted
+        host.run(['systemctl', 'reload-or-restart', firewall_unit_name(robot)])
+    else:
+        host.say('loading %s directly (%s starts it at boot)' % (rules, firewall_unit_name(robot)))
+        host.run([NFT, '-f', rules])
     if p['devices']:
         if host.dry_run or host.udevd_running():
             host.run(['udevadm', 'control', '--reload'])
@@ -446,9 +646,12 @@ def uninstall(robot, host, repo=REPO):
     # The robot first, then its CAN units (no ip call: the interfaces stay as they are).
     units.sort(key=lambda u: u != service_name(robot))
     live_systemd = not host.staging and (host.dry_run or host.systemd_running())
-    if live_systemd:
+    if live_systemd:   # stopping the firewall unit deletes its table
         for unit in units:
             host.run(['systemctl', 'stop', unit], check=False)
+    # Without systemd (or a table loaded by hand): nft itself.
+    if not host.staging and (not host.dry_run or not host.systemd_running()) and table_loaded(robot):
+        host.run([NFT, 'delete', 'table', 'inet', table_name(robot)])
     # Files and links first, in reverse; then directories, deepest first.
     for kind, path in reversed(entries):
         if kind != 'dir':
@@ -464,13 +667,109 @@ def uninstall(robot, host, repo=REPO):
         if host.dry_run or host.udevd_running():
             host.run(['udevadm', 'control', '--reload'])
     if host.staging:
-        host.say('staging root %s: no systemctl or udevadm calls' % host.root)
+        host.say('staging root %s: no systemctl, udevadm or nft calls' % host.root)
+
+
+# ---- the running firewall: the allow-list for one match (not persistent) ----
+
+def nft(*args):
+    """(returncode, output) of nft ARGS on this machine (its current network namespace)."""
+    try:
+        r = subprocess.run([NFT] + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           universal_newlines=True)
+    except OSError as e:
+        return 127, str(e)
+    return r.returncode, r.stdout
+
+
+def table_loaded(robot):
+    return nft('list', 'table', 'inet', table_name(robot))[0] == 0
+
+
+def require_table(robot):
+    if not os.path.exists(NFT):
+        raise ConfigError('%s missing: apt-get install nftables (make deps), then make install-robot ROBOT=%s'
+                          % (NFT, robot))
+    if not table_loaded(robot):
+        raise ConfigError('the firewall of %s is not installed/running (no nftables table inet %s): '
+                          'make install-robot ROBOT=%s, or systemctl start %s'
+                          % (robot, table_name(robot), robot, firewall_unit_name(robot)))
+
+
+def element(addr):
+    try:
+        net = ipv4_network(addr)
+    except ValueError:
+        raise ConfigError('%r is not an IPv4 address or network (a.b.c.d or a.b.c.0/24)' % addr)
+    return str(net) if net.prefixlen < 32 else str(net.network_address)
+
+
+def covering(robot, elem):
+    """The element of the running set `allowed` that holds elem, or None."""
+    rc, out = nft('get', 'element', 'inet', table_name(robot), 'allowed', '{', elem, '}')
+    if rc:
+        return None
+    m = re.search(r'elements\s*=\s*\{\s*([^}]*?)\s*\}', out)
+    return m.group(1) if m else elem
+
+
+def status(robot, out=sys.stdout):
+    """Prints the running set `allowed` and the ros_dropped counter; returns (elements, packets, bytes)."""
+    require_table(robot)
+    table = table_name(robot)
+    rc, text = nft('list', 'set', 'inet', table, 'allowed')
+    m = re.search(r'elements\s*=\s*\{([^}]*)\}', text)
+    elements = [e.strip() for e in m.group(1).split(',')] if m else []
+    rc, text = nft('list', 'counter', 'inet', table, 'ros_dropped')
+    m = re.search(r'packets\s+(\d+)\s+bytes\s+(\d+)', text)
+    packets, nbytes = (int(m.group(1)), int(m.group(2))) if m else (0, 0)
+    out.write('firewall of %s (nftables table inet %s):\n' % (robot, table))
+    out.write('  allowed to the ROS ports: %s\n' % (', '.join(elements) or '(none)'))
+    out.write('  ros_dropped: %d packets, %d bytes (to the ROS ports from anywhere else)\n' % (packets, nbytes))
+    return elements, packets, nbytes
+
+
+def allow(robot, addr, out=sys.stdout):
+    """Adds addr to the running set `allowed` (until the firewall is reloaded or the computer reboots)."""
+    elem = element(addr)
+    require_table(robot)
+    held = covering(robot, elem)
+    if held is not None:
+        out.write('%s is already allowed (%s)\n' % (elem, held))
+    else:
+        rc, text = nft('add', 'element', 'inet', table_name(robot), 'allowed', '{', elem, '}')
+        if rc:
+            raise ConfigError('nft add element %s: %s' % (elem, ' '.join(text.split())))
+        out.write('allowed %s until the next reboot or reinstall (make deny-laptop ROBOT=%s ADDR=%s takes it '
+                  'out)\n' % (elem, robot, addr))
+    return status(robot, out)
+
+
+def deny(robot, addr, out=sys.stdout):
+    """Deletes addr from the running set `allowed`; connections already open stay until closed."""
+    elem = element(addr)
+    require_table(robot)
+    held = covering(robot, elem)
+    if held is None:
+        out.write('%s was not allowed\n' % elem)
+    elif held != elem:
+        raise ConfigError('%s is allowed as part of %s (loopback, the robot\'s own addresses or '
+                          'config/%s.yaml computer/network/allow): change the config and make install-robot'
+                          % (elem, held, robot))
+    else:
+        rc, text = nft('delete', 'element', 'inet', table_name(robot), 'allowed', '{', elem, '}')
+        if rc:
+            raise ConfigError('nft delete element %s: %s' % (elem, ' '.join(text.split())))
+        out.write('denied %s (its connections already open stay until they close; systemctl restart '
+                  'robot-%s closes them)\n' % (elem, robot))
+    return status(robot, out)
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    ap.add_argument('action', choices=['install', 'uninstall'])
+    ap.add_argument('action', choices=['install', 'uninstall', 'allow', 'deny', 'status'])
     ap.add_argument('robot')
+    ap.add_argument('address', nargs='?', help='allow/deny: an IPv4 address or network (the laptop)')
     ap.add_argument('--root', default='/', help='install under this staging root; no systemctl/udevadm/ip calls')
     ap.add_argument('--dry-run', action='store_true', help='print what it would do, change nothing')
     ap.add_argument('--start', action='store_true', help='install: start robot-ROBOT.service now')
@@ -479,6 +778,27 @@ def main(argv=None):
     if not re.match(r'^[A-Za-z0-9_-]+$', args.robot):
         sys.stderr.write('robot_install: %r is not a robot name\n' % args.robot)
         return 1
+    if args.action in ('allow', 'deny', 'status'):
+        if (args.address is None) != (args.action == 'status') or args.root != '/' or args.dry_run:
+            sys.stderr.write('robot_install: %s ROBOT%s (no --root, --dry-run)\n'
+                             % (args.action, '' if args.action == 'status' else ' ADDR'))
+            return 2
+        try:
+            if args.address is not None:
+                element(args.address)   # a wrong address first, root or not
+            if os.geteuid() != 0:
+                raise ConfigError('run as root (nft)')
+            if args.action == 'status':
+                status(args.robot)
+            else:
+                (allow if args.action == 'allow' else deny)(args.robot, args.address)
+        except ConfigError as e:
+            sys.stderr.write('robot_install: %s\n' % e)
+            return 1
+        return 0
+    if args.address is not None:
+        sys.stderr.write('robot_install: %s takes no address\n' % args.action)
+        return 2
     host = Host(args.root, args.dry_run)
     if not host.staging and not host.dry_run and os.geteuid() != 0:
         sys.stderr.write('robot_install: run as root (or --root DIR to stage)\n')

@@ -186,7 +186,7 @@ def main():
     ap.add_argument('--seeds', type=int, default=5, help='matches per trial (seeds SEED ..)')
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--holdout', type=int, default=None, help='held-out matches per side of the verdict '
-                    '(default: max(seeds, 2))')
+                    '(default: max(seeds, 2); 0: no verdict, the closing line says nan)')
     ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
     ap.add_argument('--cluster', default=None, help='Dask scheduler address (default: a local cluster)')
     ap.add_argument('--workers', type=int, default=None, help='local cluster size (default: one worker per two cores)')
@@ -203,7 +203,9 @@ def main():
         sys.exit('tune: ROBOT=%s: no launch/%s.launch' % (args.robot, args.robot))
     params, weights = load_space(args.robot)
     config = run_matches.robot_config(args.robot)
-    holdout = args.holdout or max(args.seeds, 2)
+    holdout = max(args.seeds, 2) if args.holdout is None else args.holdout
+    if holdout < 0:
+        sys.exit('tune: --holdout = %d: must be 0 (no verdict) or more' % holdout)
     os.makedirs(args.out, exist_ok=True)
 
     import optuna
@@ -258,14 +260,19 @@ def main():
         figure(study, png)
         log('best trial %d: value %.2f; overlay %s; figure %s' % (best.number, best.value, best_path, png))
 
-        held_out = [args.seed + HOLDOUT_OFFSET + k for k in range(holdout)]
-        log('verdict: the best overlay and the shipped config on held-out seeds %d..%d' % (held_out[0], held_out[-1]))
-        best_overlay = run_matches.with_duration(overlay_of(best_values), args.match_duration)
-        rows, r = match_cluster.run_jobs(client, jobs_for(args, held_out, best_overlay, os.path.join(args.out, 'holdout_best'))
-                                         + jobs_for(args, held_out, run_matches.with_duration({}, args.match_duration),
-                                                    os.path.join(args.out, 'holdout_shipped')))
-        tuned, shipped = rows[:holdout], rows[holdout:]
-        retried += r
+        tuned, shipped = [], []
+        if holdout:
+            held_out = [args.seed + HOLDOUT_OFFSET + k for k in range(holdout)]
+            log('verdict: the best overlay and the shipped config on held-out seeds %d..%d' % (held_out[0], held_out[-1]))
+            best_overlay = run_matches.with_duration(overlay_of(best_values), args.match_duration)
+            rows, r = match_cluster.run_jobs(
+                client, jobs_for(args, held_out, best_overlay, os.path.join(args.out, 'holdout_best'))
+                + jobs_for(args, held_out, run_matches.with_duration({}, args.match_duration),
+                           os.path.join(args.out, 'holdout_shipped')))
+            tuned, shipped = rows[:holdout], rows[holdout:]
+            retried += r
+        else:
+            log('no verdict (--holdout 0)')
     finally:
         client.close()
         if cluster is not None:
@@ -275,7 +282,8 @@ def main():
             log('held-out %s seed %d (%s): ours %s, opponent %s%s' % (
                 name, row.seed, row.opponent, row.ours, row.theirs,
                 ', broken: %s' % row.violations[0] if row.violations else ''))
-    b, s, d, low, high = tune_objective.paired_verdict(tuned, shipped)
+    nan = float('nan')
+    b, s, d, low, high = tune_objective.paired_verdict(tuned, shipped) if holdout else (nan,) * 5
     log('%d retries; %.0f s wall' % (retried, time.monotonic() - began))
     print(tune_objective.closing_line(len(finished()), b, s, d, low, high), flush=True)
     return 0

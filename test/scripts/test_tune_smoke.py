@@ -70,10 +70,12 @@ class TuneSmokeTest(unittest.TestCase):
         self.assertGreater(os.path.getsize(os.path.join(self.out, ROBOT + '_tune.png')), 10000)
 
     def test_4_a_finished_study_resumes_without_new_trials(self):
-        rc, output = run_runner(self.cmd[:-2] + ['--out', self.out, '--holdout', '1'], 400.0)
+        rc, output = run_runner(self.cmd[:-2] + ['--out', self.out, '--holdout', '0'], 400.0)
         self.assertEqual(rc, 0, output[-2000:])
         self.assertIn('2 finished trial(s), 0 to go', output)
         self.assertNotIn('tune: trial ', output)
+        self.assertIn('no verdict (--holdout 0)', output)
+        self.assertRegex(output.strip().splitlines()[-1], r'^trials 2 best_score nan baseline_score nan ')
 
 
 if __name__ == '__main__':
