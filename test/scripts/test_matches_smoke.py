@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """scripts/run_matches.py as `make matches N=2 WORKERS=2` runs it (launch/matches_smoke.test):
-eurobot2009, seeds 1 and 2, at the test's ~factor (default 1.0), on a local Dask cluster of two
+eurobot2009, seeds 1 and 2, 30 s matches at the test's ~factor (default 1.0), on a local Dask cluster of two
 workers, so both matches run at once, each on its own ROS master and ports. The runner exits 0,
 both matches ended (run_match.py said so and kept a bag and a report in each match folder), the
 summary says 2 workers and no retry, the summary PNG is written and the closing line parses with
@@ -33,7 +33,8 @@ class MatchesSmokeTest(unittest.TestCase):
         cls.factor = float(rospy.get_param('~factor', 1.0))
         cls.out = tempfile.mkdtemp(prefix='matches_smoke_')
         cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'run_matches.py'), ROBOT, '--n', str(N),
-               '--seed', str(SEED), '--factor', repr(cls.factor), '--out', cls.out, '--workers', '2']
+               '--seed', str(SEED), '--factor', repr(cls.factor), '--out', cls.out, '--workers', '2',
+               '--match-duration', '30']  # the runner end to end: a 30 s match is one as much as a 90 s one
         cls.rc, cls.output = run_runner(cmd, RUNNER_TIMEOUT)
         print(cls.output)  # the runner's progress and table in the test's log
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """scripts/tune.py as `make tune ROBOT=eurobot2009 TRIALS=2 SEEDS=1` runs it (launch/tune_smoke.test),
 on a local cluster of two workers, with 30 s matches (--match-duration: the machinery, not the
-robot, is under test). The runner exits 0 and its last line is
+robot, is under test) and one held-out seed per side (the interval then reads nan; the paired t
+itself is test/unit/test_tune.py's). The runner exits 0 and its last line is
     trials 2 best_score B baseline_score S improvement D ci95 [L, H]
 with D = B - S; the study is in its storage with 2 finished trials, the first being the shipped
 config's values; the best overlay parses and holds every declared parameter; the PNG exists. A
@@ -34,7 +35,7 @@ class TuneSmokeTest(unittest.TestCase):
     def setUpClass(cls):
         cls.out = tempfile.mkdtemp(prefix='tune_smoke_')
         cls.cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'tune.py'), ROBOT, '--trials', '2', '--seeds', '1',
-                   '--workers', '2', '--match-duration', '30', '--out', cls.out]
+                   '--workers', '2', '--match-duration', '30', '--holdout', '1', '--out', cls.out]
         cls.rc, cls.output = run_runner(cls.cmd, RUNNER_TIMEOUT)
         print(cls.output, flush=True)
 
@@ -70,7 +71,7 @@ class TuneSmokeTest(unittest.TestCase):
         self.assertGreater(os.path.getsize(os.path.join(self.out, ROBOT + '_tune.png')), 10000)
 
     def test_4_a_finished_study_resumes_without_new_trials(self):
-        rc, output = run_runner(self.cmd[:-2] + ['--out', self.out, '--holdout', '0'], 400.0)
+        rc, output = run_runner(self.cmd[:-4] + ['--holdout', '0', '--out', self.out], 400.0)
         self.assertEqual(rc, 0, output[-2000:])
         self.assertIn('2 finished trial(s), 0 to go', output)
         self.assertNotIn('tune: trial ', output)
