@@ -137,9 +137,8 @@ bool CommandGate::matchRunning() const {
   return !match_end_.isZero() && ros::Time::now() < match_end_;
 }
 
-CommandGate::Sender& CommandGate::lookup(const std::string& caller) {
-  Sender& s = senders_[caller];
-  if (wallNow() - s.looked_up < kLookupTtl) return s;
+CommandGate::Sender CommandGate::lookup(const std::string& caller) const {
+  Sender s;
   s.looked_up = wallNow();
   XmlRpc::XmlRpcValue args, result, payload;
   args[0] = ros::this_node::getName();
@@ -165,8 +164,31 @@ CommandGate::Sender& CommandGate::lookup(const std::string& caller) {
 }
 
 bool CommandGate::accept(const std::string& caller, const std::string& what) {
+  // This process's own commands (a device commanding another in the same hal_node): no lookup.
+  if (caller == ros::this_node::getName()) return true;
+  bool known = false, stale = true;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    const auto it = senders_.find(caller);
+    if (it != senders_.end()) {
+      known = true;
+      // A trusted sender stays trusted (no XML-RPC on the command path of the robot's own nodes);
+      // a foreign or unknown one is asked about again after kLookupTtl (it may have been a
+      // node restarted on the robot under the same name).
+      if (!it->second.foreign) return true;
+      stale = wallNow() - it->second.looked_up >= kLookupTtl;
+    }
+  }
+  if (!known || stale) {
+    const Sender fresh = lookup(caller);  // the master, without holding the gate
+    std::lock_guard<std::mutex> lk(mutex_);
+    Sender& s = senders_[caller];
+    s.foreign = fresh.foreign;
+    s.host = fresh.host;
+    s.looked_up = fresh.looked_up;
+  }
   std::lock_guard<std::mutex> lk(mutex_);
-  Sender& s = lookup(caller);
+  Sender& s = senders_[caller];
   if (!s.foreign) return true;
   s.last_what = what;
   if (!matchRunning()) {

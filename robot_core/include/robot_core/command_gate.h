@@ -13,8 +13,9 @@
 // and logged, throttled. A sender the master does not know is foreign too.
 //
 // One gate per process (instance()), shared by every subscriber and service of it; thread-safe.
-// Lookups are cached for ~10 s per sender, so a command costs one XML-RPC call to the master only
-// the first time its sender is seen.
+// A sender is looked up once (an XML-RPC call to the master, outside the gate's lock); a trusted
+// one is never asked about again, a foreign one every ~10 s. The process's own commands pass
+// without a lookup.
 #pragma once
 
 #include <ros/ros.h>
@@ -69,7 +70,7 @@ class CommandGate {
     unsigned long obeyed = 0, refused = 0;
     std::string last_what;
   };
-  Sender& lookup(const std::string& caller);  // with mutex_ held
+  Sender lookup(const std::string& caller) const;  // asks the master; called without mutex_
   bool matchRunning() const;
   void report(const ros::WallTimerEvent&);
 
