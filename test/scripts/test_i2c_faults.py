@@ -41,6 +41,12 @@ class I2cFaultsTest(unittest.TestCase):
                     out = s
         return out
 
+    def describe(self, board, t0):
+        """The board's statuses since t0 (receive time relative to t0, level, message), for a failure."""
+        seen = ['%+.2f s %d %s' % (t - t0, s.level, s.message) for t, arr in self.diagnostics.since(t0 - 1.0)
+                for s in arr.status if 'hcl/%s:' % board in s.name]
+        return '; '.join(seen[-8:]) or 'none since %.1f s before the fault' % 1.0
+
     def drive(self, value, seconds):
         end = time.monotonic() + seconds
         while time.monotonic() < end:
@@ -60,7 +66,8 @@ class I2cFaultsTest(unittest.TestCase):
             self.assertTrue(wait_for(lambda: self.duty.last().data == 0, 1.5, step=0.02), 'motor kept running on a silent board')
             self.assertTrue(wait_for(lambda: self.level('motor_left', t0 + 0.2) is not None and self.level(
                 'motor_left', t0 + 0.2).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0, step=0.02))
-            self.assertTrue(wait_for(lambda: self.level('motor_right', t0 + 0.5) is not None, 2.0, step=0.02))
+            self.assertTrue(wait_for(lambda: self.level('motor_right', t0 + 0.5) is not None, 2.0, step=0.02),
+                            'no report of the neighbour; its last status: %s' % self.describe('motor_right', t0))
             other = self.level('motor_right', t0 + 0.5)
             self.assertEqual(other.level, DiagnosticStatus.OK, 'a silent board must not disturb its bus neighbours')
             self.fault('board_silent', 'motor_left', clear=True)
@@ -93,7 +100,8 @@ class I2cFaultsTest(unittest.TestCase):
         self.fault('board_silent', 'joystick')
         self.assertTrue(wait_for(lambda: not self.joystick.last().connected, 2.0, step=0.02))
         self.assertTrue(wait_for(lambda: self.level('joystick', t0 + 0.3) is not None and self.level(
-            'joystick', t0 + 0.3).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0, step=0.02))
+            'joystick', t0 + 0.3).level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), 2.0, step=0.02),
+            'unplugged joystick not reported; its last status: %s' % self.describe('joystick', t0))
         self.fault('board_silent', 'joystick', clear=True)
         self.assertTrue(wait_for(lambda: self.joystick.last().connected, 3.0, step=0.02))
 

@@ -26,16 +26,20 @@ I2cStatus I2cBus::transfer(std::vector<I2cMessage>& msgs, std::string& error) {
   std::string detail;
   const int attempts = 1 + retries_;
   for (int i = 0; i < attempts; ++i) {
-    if (i > 0) ++counters_.retries;
-    ++counters_.transactions;
     detail.clear();
     st = transferOnce(msgs, detail);
+    std::lock_guard<std::mutex> counting(counters_mutex_);
+    if (i > 0) ++counters_.retries;
+    ++counters_.transactions;
     if (st == I2cStatus::kOk) return st;
     if (st == I2cStatus::kNack) ++counters_.nacks;
     if (st == I2cStatus::kTimeout) ++counters_.timeouts;
     if (st == I2cStatus::kBusError) ++counters_.bus_errors;
   }
-  ++counters_.failed;
+  {
+    std::lock_guard<std::mutex> counting(counters_mutex_);
+    ++counters_.failed;
+  }
   std::ostringstream os;
   os << "i2c 0x" << std::hex << static_cast<int>(msgs.empty() ? 0 : msgs[0].address) << std::dec << " on " << url_ << ": "
      << toString(st) << " after " << attempts << " attempt(s)";
@@ -78,7 +82,7 @@ std::unique_lock<std::mutex> I2cBus::lockAddress(uint8_t address) {
 }
 
 I2cCounters I2cBus::counters() const {
-  std::lock_guard<std::mutex> lk(bus_mutex_);
+  std::lock_guard<std::mutex> lk(counters_mutex_);
   return counters_;
 }
 

@@ -70,7 +70,10 @@ class I2cBus {
   std::string url_;
   int retries_ = 2;
   double timeout_s_ = 0.02;
-  mutable std::mutex bus_mutex_;       // one transaction on the wire at a time
+  std::mutex bus_mutex_;               // one transaction on the wire at a time
+  // Apart from bus_mutex_: diagnostics read the counters while a silent device holds the
+  // bus in its timeouts, and must not wait for it (its neighbours' reports would stall).
+  mutable std::mutex counters_mutex_;
   std::mutex address_map_mutex_;
   std::map<uint8_t, std::unique_ptr<std::mutex>> address_mutex_;
   I2cCounters counters_;
