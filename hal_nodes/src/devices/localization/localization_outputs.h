@@ -27,8 +27,10 @@ class LocalizationOutputs {
                const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons, double last_step,
                bool force_cloud = false);
 
- private:
+  // The particles on /mcl/particlecloud and /particlecloud (for those subscribed).
   void publishCloud(const ros::Time& stamp, const mcl::ParticleSet& set);
+
+ private:
   // One circle per beacon whose latest range is recent: the belt the particles are weighed by.
   void publishBelts(const ros::Time& stamp, const mcl::BeaconBelts& beacons, double last_step);
 
