@@ -137,9 +137,9 @@ bool CommandGate::matchRunning() const {
   return !match_end_.isZero() && ros::Time::now() < match_end_;
 }
 
-CommandGate::Sender CommandGate::lookup(const std::string& caller) const {
-  Sender s;
-  s.looked_up = wallNow();
+CommandGate::Origin CommandGate::lookup(const std::string& caller) const {
+  Origin o;
+  o.looked_up = wallNow();
   XmlRpc::XmlRpcValue args, result, payload;
   args[0] = ros::this_node::getName();
   args[1] = caller;
@@ -151,55 +151,49 @@ CommandGate::Sender CommandGate::lookup(const std::string& caller) const {
   const std::string host = start == std::string::npos ? "" : uri.substr(start + 3, uri.find(':', start + 3) - start - 3);
   uint32_t a = 0;
   if (host.empty()) {
-    s.host = "unknown to the master";
-    s.foreign = true;
+    o.host = "unknown to the master";
+    o.foreign = true;
   } else if (!resolve(host, a)) {
-    s.host = host + " (unresolved)";
-    s.foreign = true;
+    o.host = host + " (unresolved)";
+    o.foreign = true;
   } else {
-    s.host = dotted(a);
-    s.foreign = !network_.trusted(a);
+    o.host = dotted(a);
+    o.foreign = !network_.trusted(a);
   }
-  return s;
+  return o;
 }
 
 bool CommandGate::accept(const std::string& caller, const std::string& what) {
   // This process's own commands (a device commanding another in the same hal_node): no lookup.
   if (caller == ros::this_node::getName()) return true;
-  bool known = false, stale = true;
+  bool ask_master = true;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     const auto it = senders_.find(caller);
     if (it != senders_.end()) {
-      known = true;
       // A trusted sender stays trusted (no XML-RPC on the command path of the robot's own nodes);
       // a foreign or unknown one is asked about again after kLookupTtl (it may have been a
       // node restarted on the robot under the same name).
-      if (!it->second.foreign) return true;
-      stale = wallNow() - it->second.looked_up >= kLookupTtl;
+      if (!it->second.origin.foreign) return true;
+      ask_master = wallNow() - it->second.origin.looked_up >= kLookupTtl;
     }
   }
-  if (!known || stale) {
-    const Sender fresh = lookup(caller);  // the master, without holding the gate
-    std::lock_guard<std::mutex> lk(mutex_);
-    Sender& s = senders_[caller];
-    s.foreign = fresh.foreign;
-    s.host = fresh.host;
-    s.looked_up = fresh.looked_up;
-  }
+  Origin fresh;
+  if (ask_master) fresh = lookup(caller);  // the master, without holding the gate
   std::lock_guard<std::mutex> lk(mutex_);
   Sender& s = senders_[caller];
-  if (!s.foreign) return true;
+  if (ask_master) s.origin = std::move(fresh);
+  if (!s.origin.foreign) return true;
   s.last_what = what;
   if (!matchRunning()) {
     ++s.obeyed;
     ROS_WARN_THROTTLE(5.0, "command gate: %s from %s at %s, outside the robot's network (obeyed: no match running)",
-                      what.c_str(), caller.c_str(), s.host.c_str());
+                      what.c_str(), caller.c_str(), s.origin.host.c_str());
     return true;
   }
   ++s.refused;
   ROS_ERROR_THROTTLE(1.0, "command gate: %s from %s at %s, outside the robot's network, ignored during the match",
-                     what.c_str(), caller.c_str(), s.host.c_str());
+                     what.c_str(), caller.c_str(), s.origin.host.c_str());
   return false;
 }
 
@@ -209,13 +203,13 @@ void CommandGate::report(const ros::WallTimerEvent&) {
     std::lock_guard<std::mutex> lk(mutex_);
     for (const auto& entry : senders_) {
       const Sender& s = entry.second;
-      if (!s.foreign || (s.obeyed == 0 && s.refused == 0)) continue;
+      if (!s.origin.foreign || (s.obeyed == 0 && s.refused == 0)) continue;
       diagnostic_msgs::DiagnosticStatus st;
       st.name = "command gate " + ros::this_node::getName() + ": " + entry.first;
-      st.hardware_id = s.host;
+      st.hardware_id = s.origin.host;
       st.level = s.refused ? diagnostic_msgs::DiagnosticStatus::ERROR : diagnostic_msgs::DiagnosticStatus::WARN;
       std::ostringstream m;
-      m << "commands from " << entry.first << " at " << s.host << ", outside the robot's network: " << s.refused
+      m << "commands from " << entry.first << " at " << s.origin.host << ", outside the robot's network: " << s.refused
         << " ignored during a match, " << s.obeyed << " obeyed outside a match (last: " << s.last_what << ")";
       st.message = m.str();
       diagnostic_msgs::KeyValue kv;

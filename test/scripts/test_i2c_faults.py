@@ -45,7 +45,7 @@ class I2cFaultsTest(unittest.TestCase):
         """The board's statuses since t0 (receive time relative to t0, level, message), for a failure."""
         seen = ['%+.2f s %d %s' % (t - t0, s.level, s.message) for t, arr in self.diagnostics.since(t0 - 1.0)
                 for s in arr.status if 'hcl/%s:' % board in s.name]
-        return '; '.join(seen[-8:]) or 'none since %.1f s before the fault' % 1.0
+        return '; '.join(seen[-8:]) or 'none since 1 s before the fault'
 
     def drive(self, value, seconds):
         end = time.monotonic() + seconds

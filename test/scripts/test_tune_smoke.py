@@ -34,8 +34,10 @@ class TuneSmokeTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.out = tempfile.mkdtemp(prefix='tune_smoke_')
-        cls.cmd = [sys.executable, os.path.join(ROOT, 'scripts', 'tune.py'), ROBOT, '--trials', '2', '--seeds', '1',
-                   '--workers', '2', '--match-duration', '30', '--holdout', '1', '--out', cls.out]
+        # The study's options; the verdict's held-out seeds are added per run.
+        cls.study = [sys.executable, os.path.join(ROOT, 'scripts', 'tune.py'), ROBOT, '--trials', '2', '--seeds', '1',
+                     '--workers', '2', '--match-duration', '30', '--out', cls.out]
+        cls.cmd = cls.study + ['--holdout', '1']
         cls.rc, cls.output = run_runner(cls.cmd, RUNNER_TIMEOUT)
         print(cls.output, flush=True)
 
@@ -71,7 +73,7 @@ class TuneSmokeTest(unittest.TestCase):
         self.assertGreater(os.path.getsize(os.path.join(self.out, ROBOT + '_tune.png')), 10000)
 
     def test_4_a_finished_study_resumes_without_new_trials(self):
-        rc, output = run_runner(self.cmd[:-4] + ['--holdout', '0', '--out', self.out], 400.0)
+        rc, output = run_runner(self.study + ['--holdout', '0'], 400.0)
         self.assertEqual(rc, 0, output[-2000:])
         self.assertIn('2 finished trial(s), 0 to go', output)
         self.assertNotIn('tune: trial ', output)

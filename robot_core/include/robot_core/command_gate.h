@@ -63,14 +63,18 @@ class CommandGate {
 
  private:
   CommandGate();
-  struct Sender {
+  // Where a sender is, as the master said.
+  struct Origin {
     bool foreign = false;
-    std::string host;   // the address its URI names, or why it is unknown
+    std::string host;         // the address its URI names, or why it is unknown
     double looked_up = -1e9;  // wall time [s]
+  };
+  struct Sender {
+    Origin origin;
     unsigned long obeyed = 0, refused = 0;
     std::string last_what;
   };
-  Sender lookup(const std::string& caller) const;  // asks the master; called without mutex_
+  Origin lookup(const std::string& caller) const;  // asks the master; called without mutex_
   bool matchRunning() const;
   void report(const ros::WallTimerEvent&);
 
