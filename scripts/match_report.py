@@ -61,9 +61,16 @@ def pose_of(msg):
     return p.position.x, p.position.y, yaw_of(p.orientation)
 
 
+OTHER_CLOCK = 1.0e6  # [s] a stamp this far from the bag's time is on another clock
+
+
 def stamp_of(msg, t):
+    """The message's header stamp, else its bag time `t`. A stamp on another clock than the bag's
+    (a wall-clock prober such as process_watch in a simulated match: epoch seconds against
+    simulated ones) is not match time: the bag time is used for it too."""
     h = getattr(msg, 'header', None)
-    if h is not None and getattr(h, 'stamp', None) is not None and h.stamp.to_sec() > 0:
+    if h is not None and getattr(h, 'stamp', None) is not None and h.stamp.to_sec() > 0 and \
+            abs(h.stamp.to_sec() - t.to_sec()) < OTHER_CLOCK:
         return h.stamp.to_sec()
     return t.to_sec()
 

@@ -12,7 +12,8 @@ times, so that N matches together cover every class. --schedule FILE replaces th
 fixed YAML list of schedules (one list of faults per match, used in turn). The invariants
 (scripts/chaos_invariants.py): no motor runs blind, each fault is named on /diagnostics, nothing
 is lost from the bag, the match still ends with the effectors off, the robot recovers its
-localization after each fault. Also: the match started and ended, and no process died that was
+localization after each fault, and no false alarm (scripts/false_alarms.py: a diagnostic at ERROR
+or STALE that no injected fault explains). Also: the match started and ended, and no process died that was
 not killed on purpose.
 
 A row per match (faults injected, violations), then every violation with its match time, and
@@ -33,6 +34,7 @@ ROOT = os.path.dirname(SCRIPTS)
 sys.path.insert(0, SCRIPTS)
 import chaos_faults  # noqa: E402
 import chaos_invariants as inv  # noqa: E402
+import false_alarms  # noqa: E402
 import run_matches  # noqa: E402
 from match_report import Match  # noqa: E402
 
@@ -75,7 +77,9 @@ def judge(folder, robot, config, rc):
         return faults, violations + [(0.0, 'the match never started')], score
     violations = [(t - start if t else 0.0, v) for t, v in violations]
     violations += inv.no_motor_runs_blind(m, config, faults, start)
-    violations += inv.faults_named(m, faults, start)
+    series = inv.statuses(m)
+    violations += inv.faults_named(m, faults, start, series)
+    violations += false_alarms.false_alarms(series, start, end if end is not None else m.end, faults, start, config)
     violations += inv.nothing_lost(m, faults, start, end if end is not None else m.end, start, config)
     violations += inv.match_ends(m, faults, end, start, run_matches.effectors_off_delay)
     violations += inv.robot_recovers(m, faults, end, start)

@@ -15,13 +15,19 @@ between matches through
   route        a scripted loop around the game elements (mode script),
   blocker      drives to our goal (the first table/score_zones zone whose team is `placer` or
                our colour) and stays there (mode script, one waypoint, a pause longer than a match),
+  player       plays the game for the other colour (mode player, its config block sim/world/opponent/player),
 written as one small YAML per match (DIR/ROBOT_seed<seed>/overlay.yaml, the launch argument
 `overlay`; `make tune` adds a trial's parameters to it). Every figure comes from the match's bag (scripts/match_report.py's Match) and
 launch log:
   score ours / opponent  the referee's last /sim/match
+  result                 won, lost or draw: ours against the opponent's
   contacts               times our true outline and the opponent's come within touching
                          distance (/sim/ground_truth, /sim/opponent; radii from the config)
   triggers, stuck        trigger firings (Match.triggers()), of them the `stuck` trigger's
+  stalls, in contact     driver goals that ended on a stall (the wheels turned, the odometry did
+                         not), and of them those that ended with the outlines touching
+  false alarms           diagnostics at ERROR or STALE during the match (scripts/false_alarms.py:
+                         nothing is injected here, so nothing explains one)
   loc RMSE / max         /mcl/pose against /sim/ground_truth from the start signal to the end
   idle / idle max        [s] idle while the match runs (scripts/idle_time.py: no driver goal
                          active and zero commanded speed), in all and the longest stretch
@@ -31,12 +37,16 @@ launch log:
 Invariants (a violation makes the exit code 1, each is printed with its seed): no node died
 (launch log), the match started (and ended), the effectors were off 1 s after the match end, our
 robot's true pose stayed on the table ([0, length] x [0, width] of table:), no idle stretch over
-10 s while more than 10 s of the match remained; a match lost with its workers is a violation.
+10 s while more than 10 s of the match remained, no false alarm; a match lost with its workers is
+a violation.
 Before the last line, `cluster: W workers, R retries` (R: matches rerun because their worker
-died). The last line is
+died), the results against each opponent (`opponent K: wins W losses L draws D win_rate R`) and
+against all of them, and then the closing line:
+    wins W losses L draws D
     matches N score_mean S score_min A violations V wall_s W factor F
 """
 import argparse
+import bisect
 import collections
 import math
 import os
@@ -52,18 +62,39 @@ SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(SCRIPTS)
 sys.path.insert(0, SCRIPTS)
 import run_match  # noqa: E402  (free_port: the project's own port range)
+import false_alarms  # noqa: E402
+from chaos_invariants import statuses  # noqa: E402
 from idle_time import IDLE_LIMIT, too_long  # noqa: E402
 from match_report import Match, errors_against_truth  # noqa: E402
 
-OPPONENTS = ('random_walk', 'route', 'blocker')
+OPPONENTS = ('random_walk', 'route', 'blocker', 'player')
 TOUCHING = 0.01  # [m] gap between the outlines that counts as a contact (the simulator stops them at ~0)
 SEPARATED = 0.03  # [m] gap that ends a contact: a robot pushing along the opponent is one contact, not many
 EFFECTORS_GRACE = 1.0  # [s] after the match end by which the effectors must be off
 ROUTE_CLEARANCE = 0.30  # [m] between the game elements' centres and the route
 BLOCKER_PAUSE = 1.0e6  # [s] at the goal: longer than any match, so the blocker never leaves
 
-MatchRow = collections.namedtuple('MatchRow', 'seed opponent folder ours theirs contacts triggers stuck '
-                                              'loc_rmse loc_max idle idle_max effectors_off wall errors violations')
+MatchRow = collections.namedtuple('MatchRow', 'seed opponent folder ours theirs contacts triggers stuck stalls '
+                                              'stalls_in_contact false_alarms loc_rmse loc_max idle idle_max '
+                                              'effectors_off wall errors violations')
+
+
+def result(row):
+    """won, lost or draw (ours against the opponent's score), None when the match has no score."""
+    if row.ours is None or row.theirs is None:
+        return None
+    return 'won' if row.ours > row.theirs else 'lost' if row.ours < row.theirs else 'draw'
+
+
+def results_line(rows, label=''):
+    """`wins W losses L draws D` of the scored rows (with `label` and the win rate in front when given)."""
+    outcomes = [result(r) for r in rows]
+    won, lost, draw = outcomes.count('won'), outcomes.count('lost'), outcomes.count('draw')
+    line = 'wins %d losses %d draws %d' % (won, lost, draw)
+    if label:
+        scored = won + lost + draw
+        line = '%s: %s win_rate %s' % (label, line, '%.0f%%' % (100.0 * won / scored) if scored else '-')
+    return line
 
 
 def log(msg):
@@ -159,6 +190,8 @@ def opponent_params(kind, config):
         return {'mode': 'script', 'waypoints': route_around_elements(config)}
     if kind == 'blocker':
         return {'mode': 'script', 'waypoints': [[round(v, 3) for v in our_goal(config)]], 'pause': BLOCKER_PAUSE}
+    if kind == 'player':
+        return {'mode': 'player'}
     raise ValueError(kind)
 
 
@@ -253,6 +286,21 @@ def contacts(truth, opponent, radii):
     return count
 
 
+def stalled_goals(m, radii):
+    """(driver goals that ended on a stall, of them those that ended with our outline and the
+    opponent's within TOUCHING): the truth at the goal's end."""
+    stalls = [g['t_end'] for g in m.driver_goals() if g['t_end'] is not None and 'stalled' in g['message']]
+    distances = errors_against_truth(m.poses('/sim/ground_truth'), m.poses('/sim/opponent'))
+    times = [t for t, _, _ in distances]
+    touching = 0
+    for t in stalls:
+        i = bisect.bisect_left(times, t)
+        near = [d for _, d, _ in distances[max(0, i - 1):i + 1]]
+        if near and min(near) - radii <= TOUCHING:
+            touching += 1
+    return len(stalls), touching
+
+
 def localization_errors(m, start, end):
     """Position errors [m] of /mcl/pose against the truth between the start signal and the end."""
     return [e for t, e, _ in errors_against_truth(m.poses('/mcl/pose'), m.poses('/sim/ground_truth'))
@@ -275,8 +323,9 @@ def figures(m, config, start, end, idle):
     if score:
         out.update(ours=score[-1][1], theirs=score[-1][2])
     world = config['sim']['world']
-    out['contacts'] = contacts(m.poses('/sim/ground_truth'), m.poses('/sim/opponent'),
-                               world['robot']['radius'] + world['opponent']['radius'])
+    radii = world['robot']['radius'] + world['opponent']['radius']
+    out['contacts'] = contacts(m.poses('/sim/ground_truth'), m.poses('/sim/opponent'), radii)
+    out['stalls'], out['stalls_in_contact'] = stalled_goals(m, radii)
     fired = m.triggers()
     out.update(triggers=len(fired), stuck=sum(1 for _, name in fired if name == 'stuck'))
     if start is not None and end is not None:
@@ -289,9 +338,9 @@ def figures(m, config, start, end, idle):
     return out
 
 
-def broken_invariants(m, config, start, end, effectors_off, idle):
-    """What the recorded match did that no match may do."""
-    broken = []
+def broken_invariants(m, config, start, end, effectors_off, idle, alarms=()):
+    """What the recorded match did that no match may do; `alarms`: its false alarms."""
+    broken = [text for _, text in alarms]
     if start is None:
         broken.append('the match never started')
     elif end is None:
@@ -313,8 +362,8 @@ def analyse(seed, kind, folder, robot, config, rc, wall):
     """The match's row from its bag and launch log, with the invariants it broke."""
     bag = os.path.join(folder, robot + '_match.bag')
     row = dict(seed=seed, opponent=kind, folder=folder, wall=wall, ours=None, theirs=None, contacts=None,
-               triggers=None, stuck=None, loc_rmse=None, loc_max=None, idle=None, idle_max=None, effectors_off=None,
-               errors=[])
+               triggers=None, stuck=None, stalls=None, stalls_in_contact=None, false_alarms=None, loc_rmse=None,
+               loc_max=None, idle=None, idle_max=None, effectors_off=None, errors=[])
     violations = ['node %s died: %s' % died for died in node_deaths(os.path.join(folder, robot + '_launch.log')).items()]
     if os.path.exists(bag):
         m = Match(bag)
@@ -322,7 +371,11 @@ def analyse(seed, kind, folder, robot, config, rc, wall):
         end = m.match_end()
         idle = m.idle(start, end)  # read from the bag once, for the row and the invariant
         row.update(figures(m, config, start, end, idle))
-        violations += broken_invariants(m, config, start, end, row['effectors_off'], idle)
+        alarms = []
+        if start is not None:
+            alarms = false_alarms.false_alarms(statuses(m), start, end if end is not None else m.end, [], start, config)
+        row['false_alarms'] = len(alarms)
+        violations += broken_invariants(m, config, start, end, row['effectors_off'], idle, alarms)
         m.bag.close()
     else:
         violations.append('the match never started (no bag: see %s)' % os.path.join(folder, 'run_match.out'))
@@ -334,7 +387,9 @@ def analyse(seed, kind, folder, robot, config, rc, wall):
 # ---- output ------------------------------------------------------------------------------------
 
 COLUMNS = (('seed', '%4s', '%4d'), ('opponent', '%-11s', '%-11s'), ('ours', '%4s', '%4d'), ('opp', '%4s', '%4d'),
+           ('result', '%6s', '%6s'),
            ('contacts', '%8s', '%8d'), ('triggers', '%8s', '%8d'), ('stuck', '%5s', '%5d'),
+           ('stalls', '%6s', '%6d'), ('in_contact', '%10s', '%10d'), ('false_alarms', '%12s', '%12d'),
            ('loc_rmse_m', '%10s', '%10.4f'), ('loc_max_m', '%9s', '%9.4f'), ('idle_s', '%6s', '%6.1f'),
            ('idle_max_s', '%10s', '%10.1f'), ('eff_off_s', '%9s', '%9.3f'),
            ('wall_s', '%6s', '%6.0f'))
@@ -343,7 +398,8 @@ COLUMNS = (('seed', '%4s', '%4d'), ('opponent', '%-11s', '%-11s'), ('ours', '%4s
 def table_lines(rows):
     lines = [' '.join(head % name for name, head, _ in COLUMNS)]
     for r in rows:
-        values = (r.seed, r.opponent, r.ours, r.theirs, r.contacts, r.triggers, r.stuck, r.loc_rmse, r.loc_max,
+        values = (r.seed, r.opponent, r.ours, r.theirs, result(r), r.contacts, r.triggers, r.stuck, r.stalls,
+                  r.stalls_in_contact, r.false_alarms, r.loc_rmse, r.loc_max,
                   r.idle, r.idle_max, r.effectors_off, r.wall)
         lines.append(' '.join((cell % v) if v is not None else head % '-'
                               for (_, head, cell), v in zip(COLUMNS, values)))
@@ -474,8 +530,10 @@ def main():
     lines = table_lines(rows) + ['violation: seed %d: %s' % sv for sv in violations]
     png = os.path.join(args.out, '%s_matches.png' % args.robot)
     summary_png(rows, png, args.robot, args.factor)
-    lines += ['summary: %s' % png, 'cluster: %d workers, %d retries' % (workers, retried),
-              closing_line(rows, len(violations), wall, args.factor)]
+    lines += ['summary: %s' % png, 'cluster: %d workers, %d retries' % (workers, retried)]
+    lines += [results_line([r for r in rows if r.opponent == kind], 'opponent ' + kind)
+              for kind in OPPONENTS if any(r.opponent == kind for r in rows)]
+    lines += [results_line(rows), closing_line(rows, len(violations), wall, args.factor)]
     with open(os.path.join(args.out, '%s_matches.txt' % args.robot), 'w') as f:
         f.write('\n'.join(lines) + '\n')
     print('\n'.join(lines), flush=True)

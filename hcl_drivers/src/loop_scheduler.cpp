@@ -1,6 +1,7 @@
 #include "hcl_drivers/loop_scheduler.h"
 
 #include <robot_core/loop_pacer.h>
+#include <robot_core/realtime.h>
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -13,6 +14,9 @@ namespace hcl_drivers {
 // Commands of one board that arrive together (a drive's left and right wheel, published one
 // after the other) go out in one exchange: a woken member waits this long for its siblings.
 constexpr double kGatherCommands = 0.001;  // [s]
+// Under simulated time, the shortest wait for the clock to move [s, wall]: /clock comes at most
+// every 1 ms of wall time.
+constexpr double kSimClockPoll = 0.0002;
 
 // One polling thread servicing its members in turn, each when its own period is due.
 class LoopScheduler::Loop {
@@ -76,6 +80,7 @@ class LoopScheduler::Loop {
   };
 
   void run() {
+    robot_core::enterRealtime("a bus loop");
     std::unique_lock<std::mutex> lk(mutex_);
     while (!stop_) {
       const ros::Time now = ros::Time::now();
@@ -106,8 +111,10 @@ class LoopScheduler::Loop {
       const double wait = earliest - ros::Time::now().toSec();
       if (wait <= 0.0) continue;
       // Under simulated time, wall time and ROS time differ by the real-time factor: wake
-      // often enough to notice the clock moving; in wall time sleep exactly.
-      const double wall_wait = ros::Time::isSimTime() ? std::min(wait, 0.002) : wait;
+      // often enough to notice the clock moving, but never spin on a clock that has not moved
+      // (a due time inside the current /clock step: a real-time thread spinning there would
+      // starve the thread that receives /clock). In wall time sleep exactly.
+      const double wall_wait = ros::Time::isSimTime() ? std::clamp(wait, kSimClockPoll, 0.002) : wait;
       const unsigned long woken_before = wakes_;
       cv_.wait_for(lk, std::chrono::duration<double>(wall_wait), [&] { return stop_ || wakes_ != woken_before; });
     }

@@ -1,5 +1,8 @@
 #include "robot_core/component_host.h"
 
+#include "robot_core/parameters.h"
+#include "robot_core/realtime.h"
+
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_loader.hpp>
 
@@ -26,6 +29,15 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
   if (!pnh.getParam(pnh.getNamespace(), all) || all.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
     ROS_FATAL("no %ss configured under %s (load config/<robot>.yaml into that namespace)", kind_.c_str(),
               pnh.getNamespace().c_str());
+    return false;
+  }
+  // Its real-time threads' priority (robot_core/realtime.h), set before any component starts one.
+  try {
+    const int priority = optionalInt(pnh, "realtime_priority", 0);
+    requireInRange(pnh, "realtime_priority", priority, 0, 99);
+    setRealtimePriority(priority);
+  } catch (const ParameterError& e) {
+    ROS_FATAL("%s", e.what());
     return false;
   }
   // What this host publishes on /diagnostics is said once everything is loaded: a status that

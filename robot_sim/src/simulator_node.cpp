@@ -13,6 +13,8 @@
 //   ~world  (the world, see config/eurobot2009.sim.yaml)   ~firmware (the emulators)
 //   ~faults (list of {kind, target, start, duration, magnitude}: faults scripted at start)
 //   ~firmware_enabled (bool, default true)    false: the world alone (world tests)
+//   ~realtime_priority (int 0..99, default 0) SCHED_FIFO priority of the emulators' and the
+//                                             simulated bus's threads (0: normal scheduling)
 // Names below are relative to the node's namespace (/ in the robot launch files), so several
 // simulators can run side by side in a test under different namespaces.
 // Topics: /clock, /sim/ground_truth + /sim/opponent (nav_msgs/Odometry), /sim/elements
@@ -45,6 +47,8 @@
 #include <cmath>
 #include <memory>
 #include <thread>
+
+#include <robot_core/realtime.h>
 
 #include "machine_pace.h"
 #include "robot_sim/firmware/firmware_host.h"
@@ -168,6 +172,13 @@ class Simulator {
       rates[i].second->period = 1.0 / hz;
     }
     clock_max_rate_ = number("clock_max_rate", 1000.0);
+    // The emulators (simulated boards) and the simulated bus under them answer like hardware:
+    // in real-time threads at this priority (robot_core/realtime.h). The world's stepping thread
+    // stays at normal priority: as fast as the machine goes, it would starve everything else.
+    const double priority = number("realtime_priority", 0.0);
+    if (priority != std::floor(priority) || priority < 0 || priority > 99)
+      fail("realtime_priority", "must be an integer 0..99 (0: normal scheduling)");
+    robot_core::setRealtimePriority(static_cast<int>(priority));
     XmlRpc::XmlRpcValue fw_on;
     if (pnh_.getParam("firmware_enabled", fw_on)) {
       if (fw_on.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail("firmware_enabled", "must be true or false");

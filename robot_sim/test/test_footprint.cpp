@@ -72,8 +72,9 @@ TEST(Footprint, RejectsWhatIsNotAnOutline) {
 
 TEST(Footprint, BorderAndCircleContacts) {
   // The box at (1, 1) turned by 90 degrees: its front (+0.10) faces +y.
-  const auto poly = Footprint(box(0.10, -0.20, 0.15)).placed(Pose2D{1.0, 1.0, M_PI / 2});
-  Contact b = borderContact(poly, 3.0, 1.2);
+  const Footprint f(box(0.10, -0.20, 0.15));
+  const auto poly = f.placed(Pose2D{1.0, 1.0, M_PI / 2});
+  Contact b = f.borderContact(Pose2D{1.0, 1.0, M_PI / 2}, 3.0, 1.2);
   EXPECT_NEAR(b.clearance, 1.2 - 1.1, 1e-12);
   EXPECT_NEAR(b.normal.y, 1.0, 1e-12);
   EXPECT_NEAR(b.point.x, 1.0, 1e-12);  // a flat side touches at its middle

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <system_error>
 
+#include <robot_core/realtime.h>
+
 #include "receive_timestamp.h"
 
 namespace hcl_drivers {
@@ -279,6 +281,7 @@ void UdpCanBus::handleDatagram(const uint8_t* buf, std::size_t n, const sockaddr
 }
 
 void UdpCanBus::run() {
+  robot_core::enterRealtime("the CAN bus reader (udp)");  // frames reach their channels at once
   double next_hello = 0.0, next_probe = nowS() + kHubProbePeriod, next_expiry = 0.0;
   uint8_t buf[64];
   while (running_) {

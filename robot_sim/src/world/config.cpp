@@ -253,9 +253,12 @@ RobotConfig parseRobot(const Params& n) {
 
 WorldConfig parseWorldConfig(const XmlRpc::XmlRpcValue& world, const std::string& world_ns,
                              const XmlRpc::XmlRpcValue& table, const std::string& table_ns) {
-  const Params w(world, world_ns);
+  return parseWorldConfig(Params(world, world_ns), Params(table, table_ns));
+}
+
+WorldConfig parseWorldConfig(const Params& w, const Params& table) {
   WorldConfig c;
-  c.table = parseTable(Params(table, table_ns));
+  c.table = parseTable(table);
   c.dt = inRange(w, "dt", c.dt, 1e-4, 0.02);
   c.robot = parseRobot(w.block("robot"));
 
@@ -284,7 +287,7 @@ WorldConfig parseWorldConfig(const XmlRpc::XmlRpcValue& world, const std::string
 
   const Params o = w.block("opponent");
   c.opponent.enabled = boolean(o, "enabled", c.opponent.enabled);
-  c.opponent.mode = oneOf(o, "mode", c.opponent.mode, {"static", "script", "random_walk"});
+  c.opponent.mode = oneOf(o, "mode", c.opponent.mode, {"static", "script", "random_walk", "player"});
   c.opponent.start = pose(o, "start", Pose2D{c.table.length - 0.25, 0.25, M_PI});
   c.opponent.radius = positive(o, "radius", c.opponent.radius);
   c.opponent.speed = positive(o, "speed", c.opponent.speed);
@@ -293,6 +296,17 @@ WorldConfig parseWorldConfig(const XmlRpc::XmlRpcValue& world, const std::string
   c.opponent.margin = nonNegative(o, "margin", c.opponent.margin);
   if (o.has("waypoints")) {
     for (const auto& row : o.optionalDoubleRows("waypoints", 2)) c.opponent.waypoints.push_back({row[0], row[1]});
+  }
+  c.opponent.safety_distance = nonNegative(o, "safety_distance", c.opponent.safety_distance);
+  c.opponent.give_way_after = nonNegative(o, "give_way_after", c.opponent.give_way_after);
+  c.opponent.back_off = nonNegative(o, "back_off", c.opponent.back_off);
+  {
+    int imitated = 1;  // the robot it imitates: ours
+    for (const auto& kv : c.robot.collectors) imitated = std::max(imitated, kv.second.capacity);
+    const Params p = o.block("player");
+    c.opponent.player_capacity = static_cast<int>(integer(p, "capacity", imitated));
+    p.requireInRange("capacity", c.opponent.player_capacity, 1, 100);
+    c.opponent.player_handling_time = nonNegative(p, "handling_time", c.opponent.player_handling_time);
   }
   if (c.opponent.mode == "script" && c.opponent.waypoints.empty())
     fail(o, "waypoints", "mode script needs at least one waypoint");

@@ -1,6 +1,7 @@
 #include "robot_sim/world/footprint.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -61,23 +62,86 @@ std::vector<Point2D> Footprint::regular(double radius, int n) {
   return out;
 }
 
+Footprint Footprint::circle(double radius) {
+  if (!(radius > 0.0) || !std::isfinite(radius)) throw ConfigError("footprint: a circle needs a positive radius");
+  Footprint f;
+  f.bounding_radius_ = radius;
+  return f;
+}
+
 Footprint robotFootprint(const RobotConfig& robot) {
-  return Footprint(robot.footprint.empty() ? Footprint::regular(robot.radius, 32) : robot.footprint);
+  return robot.footprint.empty() ? Footprint::circle(robot.radius) : Footprint(robot.footprint);
 }
 
 double Footprint::reach(double angle) const {
+  if (isCircle()) return bounding_radius_;
   const double ux = std::cos(angle), uy = std::sin(angle);
   double best = -std::numeric_limits<double>::infinity();
   for (const Point2D& p : points_) best = std::max(best, p.x * ux + p.y * uy);
   return best;
 }
 
-std::vector<Point2D> Footprint::placed(const Pose2D& pose) const {
+std::vector<Point2D> Footprint::placed(const Pose2D& pose, int segments) const {
+  const std::vector<Point2D> local = isCircle() ? regular(bounding_radius_, std::max(segments, 3)) : points_;
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   std::vector<Point2D> out;
-  out.reserve(points_.size());
-  for (const Point2D& p : points_) out.push_back({pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y});
+  out.reserve(local.size());
+  for (const Point2D& p : local) out.push_back({pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y});
   return out;
+}
+
+Contact Footprint::wallContact(const Pose2D& pose, const Point2D& normal, double offset) const {
+  Contact c;
+  c.normal = normal;
+  if (isCircle()) {
+    c.clearance = offset - (pose.x * normal.x + pose.y * normal.y) - bounding_radius_;
+    c.point = {pose.x + normal.x * bounding_radius_, pose.y + normal.y * bounding_radius_};
+    return c;
+  }
+  // A flat side against the wall touches along it: the middle of the vertices within 1 mm of the deepest.
+  const std::vector<Point2D> poly = placed(pose);
+  auto free = [&](const Point2D& p) { return offset - (p.x * normal.x + p.y * normal.y); };
+  c.clearance = std::numeric_limits<double>::infinity();
+  for (const Point2D& p : poly) c.clearance = std::min(c.clearance, free(p));
+  int n = 0;
+  for (const Point2D& p : poly)
+    if (free(p) <= c.clearance + 1e-3) {
+      c.point.x += p.x;
+      c.point.y += p.y;
+      ++n;
+    }
+  c.point.x /= n;
+  c.point.y /= n;
+  return c;
+}
+
+std::array<Contact, 4> Footprint::borderContacts(const Pose2D& pose, double length, double width) const {
+  return {wallContact(pose, {-1.0, 0.0}, 0.0), wallContact(pose, {1.0, 0.0}, length),
+          wallContact(pose, {0.0, -1.0}, 0.0), wallContact(pose, {0.0, 1.0}, width)};
+}
+
+Contact Footprint::borderContact(const Pose2D& pose, double length, double width) const {
+  const auto all = borderContacts(pose, length, width);
+  return *std::min_element(all.begin(), all.end(),
+                           [](const Contact& a, const Contact& b) { return a.clearance < b.clearance; });
+}
+
+Contact Footprint::circleContact(const Pose2D& pose, const Circle& other) const {
+  if (!isCircle()) return robot_sim::circleContact(placed(pose), other);
+  Contact c;
+  c.normal = unit(other.x - pose.x, other.y - pose.y);
+  c.clearance = std::hypot(other.x - pose.x, other.y - pose.y) - bounding_radius_ - other.r;
+  c.point = {pose.x + c.normal.x * bounding_radius_, pose.y + c.normal.y * bounding_radius_};
+  return c;
+}
+
+bool Footprint::pushOut(const Pose2D& pose, Circle& other) const {
+  if (!isCircle()) return robot_sim::pushOut(placed(pose), other);
+  const Contact c = circleContact(pose, other);
+  if (c.clearance >= 0.0) return false;
+  other.x = c.point.x + c.normal.x * other.r;
+  other.y = c.point.y + c.normal.y * other.r;
+  return true;
 }
 
 bool insidePolygon(const std::vector<Point2D>& poly, double x, double y) {
@@ -88,40 +152,6 @@ bool insidePolygon(const std::vector<Point2D>& poly, double x, double y) {
     if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) in = !in;
   }
   return in;
-}
-
-Contact borderContact(const std::vector<Point2D>& poly, double length, double width) {
-  // Per border: the distance of a vertex to it and the outward direction towards it.
-  auto dist = [&](const Point2D& p, int b) {
-    switch (b) {
-      case 0: return p.x;
-      case 1: return length - p.x;
-      case 2: return p.y;
-      default: return width - p.y;
-    }
-  };
-  const Point2D normals[4] = {{-1.0, 0.0}, {1.0, 0.0}, {0.0, -1.0}, {0.0, 1.0}};
-  double best = std::numeric_limits<double>::infinity();
-  int border = 0;
-  for (const Point2D& p : poly)
-    for (int b = 0; b < 4; ++b)
-      if (dist(p, b) < best) {
-        best = dist(p, b);
-        border = b;
-      }
-  Contact c;
-  c.clearance = best;
-  c.normal = normals[border];
-  int n = 0;
-  for (const Point2D& p : poly)
-    if (dist(p, border) <= best + 1e-3) {
-      c.point.x += p.x;
-      c.point.y += p.y;
-      ++n;
-    }
-  c.point.x /= n;
-  c.point.y /= n;
-  return c;
 }
 
 Contact circleContact(const std::vector<Point2D>& poly, const Circle& circle) {

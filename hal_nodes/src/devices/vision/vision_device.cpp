@@ -29,6 +29,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <Eigen/Geometry>
+#include <atomic>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -83,14 +84,24 @@ class VisionDevice : public Device {
     const auto img = image_->fresh(max_input_age_);
     if (!img) return setUnavailable("no fresh camera image (age " + std::to_string(image_->age()) + " s)");
     if (img->header.stamp == last_stamp_) return;  // already processed
-    last_stamp_ = img->header.stamp;
     const std::string cam = camera_frame_.empty() ? img->header.frame_id : camera_frame_;
     geometry_msgs::TransformStamped t;
     try {
-      t = tf_buffer_.lookupTransform(map_frame_, cam, img->header.stamp, ros::Duration(0.05));
+      // The pose at the image's stamp. The chain's newest link (the odometry) may not have reached
+      // that stamp yet: the image then waits for a later refresh, as long as it is fresh, instead
+      // of blocking this thread or failing on a few milliseconds of lag.
+      const ros::Time newest = tf_buffer_.lookupTransform(map_frame_, cam, ros::Time(0)).header.stamp;
+      if (newest < img->header.stamp) {
+        ++waits_for_tf_;
+        if ((img->header.stamp - newest).toSec() <= max_input_age_) return;
+        return setUnavailable("no transform " + map_frame_ + " -> " + cam + " at the image's stamp: the newest is " +
+                              std::to_string((img->header.stamp - newest).toSec()) + " s older");
+      }
+      t = tf_buffer_.lookupTransform(map_frame_, cam, img->header.stamp);
     } catch (const tf2::TransformException& e) {
       return setUnavailable("no transform " + map_frame_ + " -> " + cam + ": " + e.what());
     }
+    last_stamp_ = img->header.stamp;
     cv_bridge::CvImageConstPtr cv;
     try {
       cv = cv_bridge::toCvShare(img, "bgr8");
@@ -137,7 +148,10 @@ class VisionDevice : public Device {
     if (debug) debug_pub_.publish(cv_bridge::CvImage(img->header, "bgr8", canvas).toImageMsg());
   }
 
-  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override { stat.add("bad images", bad_images_); }
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    stat.add("bad images", bad_images_.load());
+    stat.add("images waiting for tf", waits_for_tf_.load());
+  }
 
  private:
   struct Kind {
@@ -198,6 +212,7 @@ class VisionDevice : public Device {
   }
 
   std::vector<Kind> kinds_;
+  std::atomic<unsigned long> waits_for_tf_{0};  // refreshes whose image was newer than the newest transform
   std::shared_ptr<LatestValue<sensor_msgs::Image>> image_;
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -206,7 +221,7 @@ class VisionDevice : public Device {
   std::string map_frame_, camera_frame_;
   double hfov_ = 1.0, fx_ = 0, fy_ = 0, cx_ = -1, cy_ = -1, pixel_std_ = 2.0, max_input_age_ = 0.5;
   double table_length_ = 3.0, table_width_ = 2.1;
-  unsigned long bad_images_ = 0;
+  std::atomic<unsigned long> bad_images_{0};  // read by diagnose() on the diagnostics thread
 };
 
 }  // namespace hal_nodes

@@ -29,6 +29,7 @@
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/beacon_protocol.h"
 #include "hcl_drivers/transport/serial_port.h"
+#include <robot_core/realtime.h>
 
 namespace hcl_drivers {
 
@@ -170,6 +171,7 @@ class BeaconReceiver : public Board {
 
  private:
   void readLoop() {
+    robot_core::enterRealtime("the beacon line reader");
     beacon_protocol::Parser parser;
     std::vector<beacon_protocol::Message> msgs;
     uint8_t buf[256];

@@ -15,6 +15,7 @@ class XmlRpcValue;
 }
 
 #include <robot_core/parameter_error.h>
+#include <robot_core/params.h>
 
 namespace robot_sim {
 
@@ -173,7 +174,7 @@ struct BatteryConfig {
 
 struct OpponentConfig {
   bool enabled = true;
-  std::string mode = "random_walk";  // static | script | random_walk
+  std::string mode = "random_walk";  // static | script | random_walk | player
   Pose2D start{2.75, 0.25, 3.14159265358979};
   double radius = 0.15;
   double speed = 0.3;          // [m/s]
@@ -181,6 +182,15 @@ struct OpponentConfig {
   double pause = 1.0;          // [s] at each waypoint
   std::vector<Point2D> waypoints;  // script mode, looped
   double margin = 0.25;        // random walk stays this far from the borders
+  // What its own sensors make it do: never closer to our outline than this [m]; blocked by us
+  // this long [s], it backs off this far [m] and takes another target.
+  double safety_distance = 0.05;
+  double give_way_after = 2.0;
+  double back_off = 0.15;
+  // player: how many elements it carries at once (default: our robot's largest collector, the
+  // robot it imitates) and how long taking or putting down takes [s].
+  int player_capacity = 1;
+  double player_handling_time = 1.0;
 };
 
 struct MatchConfig {
@@ -205,5 +215,7 @@ struct WorldConfig {
 // `table_ns` are their resolved names, for error messages. Throws ConfigError.
 WorldConfig parseWorldConfig(const XmlRpc::XmlRpcValue& world, const std::string& world_ns,
                              const XmlRpc::XmlRpcValue& table, const std::string& table_ns);
+// The same from readers already placed (Params::fromYamlFile of a robot's files in a test).
+WorldConfig parseWorldConfig(const robot_core::Params& world, const robot_core::Params& table);
 
 }  // namespace robot_sim

@@ -1,8 +1,10 @@
-// Our robot's outline seen from above: a polygon in base_link (REP-103), the one shape used for
-// collisions with the borders and the opponent, for pushing game elements and for locating
-// bumper contacts (which bumper closes depends on where on the outline the contact is).
+// Our robot's outline seen from above, the one shape used for collisions with the borders and
+// the opponent, for pushing game elements and for locating bumper contacts (which bumper
+// closes depends on where on the outline the contact is): the configured polygon in base_link
+// (REP-103), or a true circle about base_link when none is configured.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "robot_sim/world/config.h"
@@ -19,39 +21,59 @@ struct Contact {
 
 class Footprint {
  public:
-  // `points`: the polygon's vertices in base_link, in order (either sense), >= 3, not
+  // A polygon: `points` are its vertices in base_link, in order (either sense), >= 3, not
   // self-intersecting, base_link's origin inside. Throws ConfigError naming what is wrong.
   explicit Footprint(std::vector<Point2D> points);
+  // A circle of `radius` about base_link's origin.
+  static Footprint circle(double radius);
   // A regular polygon with `n` vertices on the circle of `radius`, one at +x.
   static std::vector<Point2D> regular(double radius, int n);
 
-  const std::vector<Point2D>& points() const { return points_; }
+  bool isCircle() const { return points_.empty(); }
+  const std::vector<Point2D>& points() const { return points_; }  // empty for a circle
   double boundingRadius() const { return bounding_radius_; }
   // How far the outline reaches along the base_link direction `angle` (its support distance).
   double reach(double angle) const;
-  // The vertices placed at `pose` on the table (map frame).
-  std::vector<Point2D> placed(const Pose2D& pose) const;
+  // The outline placed at `pose` on the table (map frame): a polygon's vertices, or a circle
+  // drawn with `segments` vertices (for markers; contacts use the exact shape).
+  std::vector<Point2D> placed(const Pose2D& pose, int segments = 48) const;
+
+  // The outline at `pose` against a straight wall: the free side is {p : p . normal <= offset}
+  // (normal: unit, pointing into the wall).
+  Contact wallContact(const Pose2D& pose, const Point2D& normal, double offset) const;
+  // Against each border of the table [0, length] x [0, width] (x = 0, x = length, y = 0, y =
+  // width), and the nearest of them.
+  std::array<Contact, 4> borderContacts(const Pose2D& pose, double length, double width) const;
+  Contact borderContact(const Pose2D& pose, double length, double width) const;
+  // The outline at `pose` against a circle.
+  Contact circleContact(const Pose2D& pose, const Circle& c) const;
+  // Moves a circle overlapping the outline at `pose` out of it until it just touches; true when it moved.
+  bool pushOut(const Pose2D& pose, Circle& c) const;
 
  private:
+  Footprint() = default;
   std::vector<Point2D> points_;
   double bounding_radius_ = 0.0;
 };
 
-// Outline `poly` (map) against the inside of the table [0, length] x [0, width]: the nearest
-// border. A flat side against a border touches along it: the contact point is the middle of
-// the vertices within 1 mm of the deepest one.
-Contact borderContact(const std::vector<Point2D>& poly, double length, double width);
+// A footprint standing at a pose: what the opponent and the elements meet.
+struct PlacedFootprint {
+  const Footprint* shape;
+  Pose2D pose;
+  Contact circleContact(const Circle& c) const { return shape->circleContact(pose, c); }
+  bool pushOut(Circle& c) const { return shape->pushOut(pose, c); }
+};
 
-// Outline `poly` (map) against a circle; a circle whose centre is inside counts as overlapping
+// Polygon `poly` (map) against a circle; a circle whose centre is inside counts as overlapping
 // by its distance to the outline plus its radius.
 Contact circleContact(const std::vector<Point2D>& poly, const Circle& c);
 
-// The robot's configured outline, or the regular 32-gon on its radius (within 0.5 % of it).
+// The robot's configured outline, or the circle of its radius.
 Footprint robotFootprint(const RobotConfig& robot);
 
 bool insidePolygon(const std::vector<Point2D>& poly, double x, double y);
 
-// Moves a circle overlapping the outline out of it, along the contact normal, until it just
+// Moves a circle overlapping the polygon out of it, along the contact normal, until it just
 // touches. True when it moved.
 bool pushOut(const std::vector<Point2D>& poly, Circle& c);
 

@@ -1,7 +1,8 @@
-// The simulated world: the table, our differential-drive robot with its motors, encoders,
-// rangers, switches and mechanisms, the opponent and the game elements, advanced by step().
-// Implements the World contract for the firmware emulators plus the simulator's controls
-// (teleport, opponent placement, switches, world-side faults) and ground truth.
+// The simulated world, advanced by step(): the table with our robot's body (robot_body.h: motors,
+// encoders, motion and contacts), its servos, steppers, switches and sensors, the game (game.h:
+// elements, collectors, the referee), the opponent (opponent.h) and the world-side faults
+// (world_faults.h). Implements the World contract for the firmware emulators plus the
+// simulator's controls (teleport, opponent placement, switches, faults) and ground truth.
 //
 // Thread safety: every public method locks one mutex; step() runs in the simulator's thread.
 // Determinism: step() draws only from dynamics streams, sensor reads from per-sensor streams,
@@ -20,9 +21,10 @@
 #include "robot_sim/world/beacon_model.h"
 #include "robot_sim/world/config.h"
 #include "robot_sim/world/footprint.h"
-#include "robot_sim/world/motor_model.h"
+#include "robot_sim/world/game.h"
 #include "robot_sim/world/opponent.h"
 #include "robot_sim/world/random.h"
+#include "robot_sim/world/robot_body.h"
 #include "robot_sim/world/table_geometry.h"
 #include "robot_sim/world/world.h"
 
@@ -32,26 +34,6 @@ struct BodyTruth {
   Pose2D pose;
   double v = 0.0;  // forward speed [m/s]
   double w = 0.0;  // yaw rate [rad/s]
-};
-
-// The referee's account: points per team, frozen at the end of the match.
-struct MatchProgress {
-  bool started = false;
-  bool over = false;
-  double elapsed = 0.0;    // since the start [s]
-  double remaining = 0.0;  // [s]
-  int score_ours = 0;
-  int score_opponent = 0;
-  std::string colour_ours, colour_opponent;  // start zones at the start ("" before it)
-};
-
-// An element came to lie in a scoring zone (points > 0) or left it (points < 0) during the match.
-struct RefereeEvent {
-  double time = 0.0;    // match time [s]
-  std::string element;  // kind#index in the config's element list
-  std::string zone;
-  int points = 0;
-  Mover team = Mover::nobody;  // whose points
 };
 
 class SimWorld : public World {
@@ -79,7 +61,7 @@ class SimWorld : public World {
   void step();                  // advances one dt
   double dt() const { return config_.dt; }
   const WorldConfig& config() const { return config_; }
-  const Footprint& footprint() const { return footprint_; }  // our outline in base_link
+  const Footprint& footprint() const { return robot_.footprint(); }  // our outline in base_link
 
   // Motor commands applied exactly at simulated time `at` (a scripted, reproducible drive).
   void scheduleMotorCommand(double at, const std::string& motor, double fraction);
@@ -111,34 +93,10 @@ class SimWorld : public World {
   std::vector<std::string> unknownNames() const;
 
  private:
-  struct Motor {
-    MotorConfig config;
-    MotorState state;
-    double extra_slip = 0.0;
-    double ground_speed = 0.0;  // wheel contact speed [m/s]
-  };
-  struct Encoder {
-    EncoderConfig config;
-    double turns = 0.0;  // wheel revolutions
-  };
-  struct Collector {
-    CollectorConfig config;
-    int held = 0;
-    double eject_cooldown = 0.0;
-    std::vector<GameElement*> gripped;  // a gripper's elements (into elements_, never resized)
-    bool was_closed = false;            // a gripper grips once per closing
-  };
-  void stepGripper(Collector& c);
-
-  void stepRobot(double dt);
-  void stepElements(double dt, const std::vector<Point2D>& ours);  // ours: our outline in map
   void stepMatch();
-  void beginMatch();
-  void updateScoring();  // each step of the match: where every element scores, and the events
-  Mover zoneTeam(const Zone& zone, const GameElement& e) const;
+  Obstacles obstacles() const;  // what our robot's motion meets: borders, the opponent
+  std::vector<Circle> rangerObstacles(bool with_elements) const;
   void applyScheduled();
-  std::vector<Circle> obstacles(bool with_elements) const;
-  Pose2D toMap(double x, double y) const;  // a base_link point on the table
   template <class M>
   typename M::mapped_type* find(M& m, const std::string& name, const char* kind) const;
   void noteUnknown(const char* kind, const std::string& name) const;
@@ -147,43 +105,23 @@ class SimWorld : public World {
   const unsigned seed_;
   mutable std::mutex mutex_;
   TableGeometry table_;
-  Footprint footprint_;
   double time_ = 0.0;
   long steps_ = 0;
-  Pose2D pose_;
-  double v_ = 0.0, w_ = 0.0;
-  std::map<std::string, Motor> motors_;
-  Motor* left_ = nullptr;
-  Motor* right_ = nullptr;
-  std::map<std::string, Encoder> encoders_;
+  RobotBody robot_;
+  Game game_;
   std::map<std::string, ServoState> servos_;
   std::map<std::string, StepperState> steppers_;
   std::map<std::string, bool> manual_switches_;
-  std::map<std::string, Collector> collectors_;
-  std::vector<GameElement> elements_;
   std::deque<std::pair<double, std::pair<std::string, double>>> scheduled_;
   Opponent opponent_;
   BeaconModel beacons_;
   // Random streams: dynamics (used by step only) and one per sensor.
-  Rng slip_rng_, opponent_rng_, beacon_rng_;
+  Rng opponent_rng_, beacon_rng_;
   std::map<std::string, Rng> ranger_rng_;
   Rng compass_rng_;
   mutable Rng battery_rng_;
   mutable int unknown_names_ = 0;
   mutable std::set<std::string> unknown_list_;
-  bool match_started_ = false;
-  bool match_over_ = false;
-  double match_start_ = 0.0;
-  // Where each element scores now (index into score_zones, -1: nowhere) and for whom.
-  struct Scoring {
-    int zone = -1;
-    Mover team = Mover::nobody;
-  };
-  std::vector<Scoring> scoring_;
-  std::vector<RefereeEvent> score_events_;
-  std::string colour_ours_, colour_opponent_;
-  bool contact_ = false;
-  double contact_angle_ = 0.0;  // base_link: direction of the contact point on the outline
 };
 
 }  // namespace robot_sim

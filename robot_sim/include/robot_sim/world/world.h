@@ -34,7 +34,8 @@ struct GameElement {
   Pose2D pose;
   double radius = 0.0;  // [m]
   double height = 0.0;  // [m]
-  bool carried = false; // held by our robot
+  bool carried = false; // held by a robot: `carrier`
+  Mover carrier = Mover::nobody;
   Mover moved_by = Mover::nobody;
 };
 

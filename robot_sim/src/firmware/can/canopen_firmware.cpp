@@ -1,5 +1,7 @@
 #include "canopen_firmware.h"
 
+#include <robot_core/realtime.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -134,6 +136,7 @@ void CanopenFirmware::powerCycle() {
 }
 
 void CanopenFirmware::run() {
+  robot_core::enterRealtime("a CANopen board emulator");  // a board answers like a microcontroller
   {
     std::lock_guard<std::mutex> lk(mutex_);
     resetBoard();

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "robot_sim/firmware/firmware_registry.h"
+#include <robot_core/realtime.h>
 
 namespace robot_sim {
 
@@ -73,6 +74,7 @@ class ExampleBoardFirmware : public Firmware {
   }
 
   void serve() {
+    robot_core::enterRealtime("the example board emulator");
     uint8_t in[64];
     while (running_) {
       pollfd p{fd_, POLLIN, 0};

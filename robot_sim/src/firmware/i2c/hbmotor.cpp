@@ -17,6 +17,7 @@
 #include "register_chip.h"
 #include "robot_sim/firmware/firmware_registry.h"
 #include "robot_sim/world/world.h"
+#include <robot_core/realtime.h>
 
 namespace robot_sim {
 
@@ -118,6 +119,7 @@ class HBMotorFirmware : public RegisterChip {
 
   // The firmware's main loop: watchdog, and the world-less motor model.
   void run() {
+    robot_core::enterRealtime("an I2C board emulator");
     double last = firmwareNow();  // the board's clock: simulated time in a simulation
     int n = 0;
     while (running_) {

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <robot_core/realtime.h>
 
 namespace robot_sim {
 
@@ -79,6 +80,7 @@ I2cBusServer::~I2cBusServer() {
 }
 
 void I2cBusServer::serve() {
+  robot_core::enterRealtime("the I2C bus emulator");  // the chips answer within the transaction
   std::vector<int> clients;
   uint8_t buf[4096];
   while (running_) {

@@ -26,6 +26,7 @@
 #include <thread>
 
 #include "robot_sim/firmware/firmware_registry.h"
+#include <robot_core/realtime.h>
 
 namespace robot_sim {
 
@@ -132,6 +133,7 @@ class JoystickFirmware : public Firmware {
 
   // Connects to each new reader (the kernel's open), sends the init events; follows plug state.
   void run() {
+    robot_core::enterRealtime("the joystick emulator");
     bool fifo_present = true;
     while (running_) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));

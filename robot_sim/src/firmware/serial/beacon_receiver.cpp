@@ -33,6 +33,7 @@
 
 #include "robot_sim/firmware/firmware_registry.h"
 #include "robot_sim/world/world.h"
+#include <robot_core/realtime.h>
 
 namespace robot_sim {
 
@@ -108,6 +109,7 @@ class BeaconReceiverFirmware : public Firmware {
   }
 
   void run() {
+    robot_core::enterRealtime("the beacon receiver emulator");
     auto next = std::chrono::steady_clock::now();
     uint32_t seq = 0;
     while (running_) {
