@@ -3,8 +3,9 @@
 eurobot2009, seeds 1 and 2, 30 s matches at the test's ~factor (default 1.0), on a local Dask cluster of two
 workers, so both matches run at once, each on its own ROS master and ports. The runner exits 0,
 both matches ended (run_match.py said so and kept a bag and a report in each match folder), the
-summary says 2 workers and no retry, the summary PNG is written and the closing line parses with
-2 matches and 0 violations."""
+summary says 2 workers and no retry, the summary PNG is written, the results against each opponent
+and in all (`wins W losses L draws D`) come before the closing line, which parses with 2 matches
+and 0 violations."""
 import math
 import os
 import re
@@ -76,6 +77,15 @@ class MatchesSmokeTest(unittest.TestCase):
                 self.assertTrue(os.path.exists(os.path.join(folder, ROBOT + name)), 'seed %d: no %s' % (seed, name))
             self.assertTrue(os.path.exists(os.path.join(folder, 'overlay.yaml')))
         self.assertTrue(os.path.exists(os.path.join(self.out, ROBOT + '_matches.png')))
+
+    def test_results_line_before_the_closing_line(self):
+        lines = self.output.strip().splitlines()
+        m = re.match(r'^wins (\d+) losses (\d+) draws (\d+)$', lines[-2])
+        self.assertIsNotNone(m, 'line before the closing line: %r' % lines[-2])
+        self.assertEqual(sum(int(g) for g in m.groups()), N)
+        for kind in ('random_walk', 'route'):
+            self.assertTrue(any(re.match(r'^opponent %s: wins \d+ losses \d+ draws \d+ win_rate \S+$' % kind, l)
+                                for l in lines), 'no results line for %s' % kind)
 
     def test_one_row_per_match(self):
         rows = [l for l in self.output.splitlines() if re.match(r'^\s*\d+ (random_walk|route|blocker) ', l)]

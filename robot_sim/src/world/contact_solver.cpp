@@ -70,10 +70,16 @@ ResolvedMotion resolveMotion(const Footprint& f, const Pose2D& now, const Pose2D
   ResolvedMotion r;
   std::vector<double> allowed;
   for (const Contact& c : contacts(f, now, obs)) allowed.push_back(std::max(0.0, -c.clearance));
+  // Wedged (no push-out frees the whole step): the step's translation alone, then its turn
+  // alone, then nothing. A robot squeezed between two obstacles still slides out along them
+  // when its wheels turn it a hair.
   Pose2D pose = next;
   if (!pushOut(f, pose, allowed, obs)) {
-    pose = Pose2D{now.x, now.y, next.theta};  // wedged: the turn alone
-    if (!pushOut(f, pose, allowed, obs)) pose = now;
+    pose = Pose2D{next.x, next.y, now.theta};
+    if (!pushOut(f, pose, allowed, obs)) {
+      pose = Pose2D{now.x, now.y, next.theta};
+      if (!pushOut(f, pose, allowed, obs)) pose = now;
+    }
   }
   r.cancelled = std::hypot(pose.x - next.x, pose.y - next.y) > kTolerance || pose.theta != next.theta;
   double ask_l, ask_r, did_l, did_r;

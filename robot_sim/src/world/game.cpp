@@ -95,15 +95,25 @@ void Game::stepElements(double dt, const RobotBody& ours, const std::map<std::st
     else
       stepGripper(kv.second, ours, servos);
   }
-  // Carried elements ride along; loose ones are pushed out of our outline (along its normal at
-  // the contact) and of the opponent's circle, and stay on the table.
+  // Carried elements ride along (a gripper's in its mouth, a collector's inside the robot);
+  // loose ones are pushed out of our outline (along its normal at the contact) and of the
+  // opponent's circle, and stay on the table.
   const Pose2D& pose = ours.pose();
   const double reach = ours.footprint().boundingRadius();
+  for (const auto& kv : collectors_)
+    for (std::size_t i : kv.second.gripped) {
+      const Pose2D mouth = ours.toMap(kv.second.config.x, kv.second.config.y);
+      elements_[i].pose.x = mouth.x;
+      elements_[i].pose.y = mouth.y;
+    }
   for (auto& e : elements_) {
     if (e.carried) {
       const bool by_opponent = e.carrier == Mover::opponent && opponent;
-      e.pose.x = by_opponent ? opponent->x : pose.x;
-      e.pose.y = by_opponent ? opponent->y : pose.y;
+      const bool gripped = e.carrier == Mover::ours && isGripped(e);
+      if (!gripped) {
+        e.pose.x = by_opponent ? opponent->x : pose.x;
+        e.pose.y = by_opponent ? opponent->y : pose.y;
+      }
       continue;
     }
     if (std::hypot(e.pose.x - pose.x, e.pose.y - pose.y) < reach + e.radius) {
@@ -128,6 +138,13 @@ void Game::stepElements(double dt, const RobotBody& ours, const std::map<std::st
     e.pose.x = std::clamp(e.pose.x, e.radius, table_.length - e.radius);
     e.pose.y = std::clamp(e.pose.y, e.radius, table_.width - e.radius);
   }
+}
+
+bool Game::isGripped(const GameElement& e) const {
+  for (const auto& kv : collectors_)
+    for (std::size_t i : kv.second.gripped)
+      if (&elements_[i] == &e) return true;
+  return false;
 }
 
 bool Game::takeByOpponent(std::size_t i) {

@@ -150,10 +150,10 @@ bool SimWorld::switchClosed(const std::string& name) const {
     else pos = servos_.at(s.actuator).position;
     return s.direction < 0 ? pos <= s.at : pos >= s.at;
   }
-  // element: something under the sensor
+  // element: something under the sensor, on the table or held there (a column in the hand)
   const Pose2D p = robot_.toMap(s.x, s.y);
   for (const auto& e : game_.elements())
-    if (!e.carried && std::hypot(e.pose.x - p.x, e.pose.y - p.y) <= s.radius) return true;
+    if (std::hypot(e.pose.x - p.x, e.pose.y - p.y) <= s.radius) return true;
   return false;
 }
 

@@ -7,8 +7,11 @@ from smart_brain.statemachine import clock
 
 
 class WorldView(object):
-    def __init__(self, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0, border_margin=0.0):
+    def __init__(self, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0, border_margin=0.0,
+                 on_elements=None):
+        """`on_elements(stamp, [(kind, x, y)])`, if given, is called with each camera frame's elements."""
         import rospy
+        self._on_elements_cb = on_elements
         #: [m] elements seen closer than this to a border are left out: a detection on the border
         #: line is no element, and one lying against the border cannot be taken without pushing it
         self.border_margin = float(border_margin)
@@ -30,8 +33,11 @@ class WorldView(object):
 
     def _on_elements(self, msg):
         items = [(e.kind, e.pose.pose.position.x, e.pose.pose.position.y) for e in msg.elements]
+        now = clock.now()
         with self._lock:
-            self._elements = (clock.now(), items)
+            self._elements = (now, items)
+        if self._on_elements_cb is not None:
+            self._on_elements_cb(now, items)
 
     def pose(self):
         with self._lock:

@@ -23,9 +23,13 @@
 // effector's /diagnostics status at ERROR (~motor_status, a status-name prefix, default
 // "hal/drive:"; "" disables). A match is lost by a robot that gives up on a 1 s board outage.
 // (~predict_pose [true]: the map pose is carried from the newest /odom's stamp to now by its twist.)
-// A stall ends the goal BLOCKED: the wheels commanded (>= 0.05 m/s or 0.3 rad/s) while odometry
+// A stall blocks the goal: the wheels commanded (>= 0.05 m/s or 0.3 rad/s) while odometry
 // reads no motion for ~stall_timeout [s] (default 1; 0 disables), e.g. pushing a border where no
 // ranger or bumper sees it. A motor held at stall heats up and the goal makes no progress.
+// A blocked goal (a stall, or a route blocked past ~avoidance/blocked_timeout) first tries the
+// recoveries of ~recovery/behaviors in order (driver/recovery.h: back off where the rear is free,
+// turn the other way round, wait), each shown in the feedback's `recovery` and in a WARN, and
+// goes on after each; it ends BLOCKED only when the list is used up.
 // Every controlled command goes through the VelocityLimiter (~limits/*); only the stop itself
 // skips the deceleration ramp.
 //
@@ -73,6 +77,7 @@
 #include "hal_nodes/driver/hermite_path.h"
 #include "hal_nodes/driver/path_follower.h"
 #include "hal_nodes/driver/pose_fusion.h"
+#include "hal_nodes/driver/recovery.h"
 #include "hal_nodes/driver/relative_moves.h"
 
 namespace hal_nodes {
@@ -113,7 +118,8 @@ class Driver : public Effector {
  public:
   enum class Mode { NONE, GOTO, STRAIGHT, ROTATE, PATH };
   Driver() : autopilot_(AutopilotConfig()), straight_(AutopilotConfig()), rotation_(AutopilotConfig()),
-             follower_(AutopilotConfig(), PathFollowerConfig()), avoidance_(AvoidanceConfig()), limiter_(MotionLimits()) {}
+             follower_(AutopilotConfig(), PathFollowerConfig()), avoidance_(AvoidanceConfig()),
+             recovery_(RecoveryConfig(), AutopilotConfig()), limiter_(MotionLimits()) {}
 
   void init(DeviceContext& ctx) override;
 
@@ -168,6 +174,17 @@ class Driver : public Effector {
 
   // Commanded to move, odometry reads no motion, for stall_timeout: stalled.
   bool stalled(const ros::Time& now);
+
+  // ---------------------------------------------------------------- recoveries
+  // The goal is blocked: the next recovery that applies starts, or the goal ends BLOCKED.
+  void onBlocked(const std::string& why);
+  // One period of the running recovery; when it is over the goal goes on from where the robot is.
+  void stepRecovery(const ros::Time& now, double dt);
+  // [m] free behind the robot: the rear rangers' nearest echo (their range where they see
+  // nothing); < 0 when one is missing or stale.
+  double rearFree() const;
+  // [rad] the turn the goal still has to make when it is turning in place, else 0.
+  double turnLeft() const;
   void publishFeedback();
 
   void setTimeout(double t) { timeout_ = t > 0.0 ? ros::Time::now() + ros::Duration(t) : ros::Time(); }
@@ -254,6 +271,7 @@ class Driver : public Effector {
   Rotation rotation_;
   PathFollower follower_;
   Avoidance avoidance_;
+  Recovery recovery_;
   VelocityLimiter limiter_;
   PoseFusion fusion_;
 
@@ -271,6 +289,7 @@ class Driver : public Effector {
   bool localized_once_ = false;  // localization sound at a goal's start since the driver started
   std::shared_ptr<LatestValue<nav_msgs::Odometry>> odom_;
   std::vector<std::shared_ptr<LatestValue<sensor_msgs::Range>>> rangers_;
+  std::vector<std::shared_ptr<LatestValue<sensor_msgs::Range>>> rear_rangers_;  // recovery/rear_rangers
   std::shared_ptr<LatestValue<geometry_msgs::PointStamped>> opponent_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -286,6 +305,8 @@ class Driver : public Effector {
   std::string stall_message_;
   std::string waiting_;         // why it holds
   bool move_started_ = false;   // the goal's autopilot / curve / relative move was started from a pose
+  bool resume_after_recovery_ = false;  // a recovery ended: the goal goes on from where the robot is
+  std::string blocked_why_;     // what blocked the goal that a recovery now tries to free
   GoStraightGoal straight_goal_;
   RotateByGoal rotate_goal_;
   double period_ = 0.02;
@@ -303,7 +324,8 @@ class Driver : public Effector {
   DriverDeviceConfig settings_;
   bool motor_fault_ = false;
   std::string motor_fault_message_;
-  unsigned long goals_ = 0, aborted_ = 0, holds_ = 0, stalls_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0;
+  unsigned long goals_ = 0, aborted_ = 0, holds_ = 0, stalls_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0,
+                recoveries_ = 0;
 };
 
 }  // namespace hal_nodes

@@ -51,7 +51,7 @@ void Driver::stepGoto(const Pose2D& pose, double dt) {
     startLeg(pose);
   }
   if (blocked) {
-    if (blockedTooLong()) return finish(BLOCKED, "route blocked by an obstacle for longer than avoidance/blocked_timeout", false);
+    if (blockedTooLong()) return onBlocked("route blocked by an obstacle for longer than avoidance/blocked_timeout");
     drive(Twist2D(), dt);  // brake at the deceleration limit: braking_distance allows it
     publishGotoFeedback();
     return;
@@ -103,6 +103,7 @@ void Driver::publishGotoFeedback() {
   f.phase = waiting_.empty() ? Autopilot::phaseName(autopilot_.phase()) : "holding";
   f.avoidance = avoidanceNow();
   f.waiting = waiting_;
+  f.recovery = recovery_.describe();
   if (goto_from_move_base_) publishMoveBaseFeedback(pose);
   else goto_->publishFeedback(f);
 }
@@ -128,6 +129,7 @@ void Driver::publishRelativeFeedback() {
       f.progress = straight_.progressPercent();
     }
     f.waiting = waiting_;
+    f.recovery = recovery_.describe();
     straight_as_->publishFeedback(f);
   } else if (mode_ == Mode::ROTATE) {
     RotateByFeedback f;
@@ -136,6 +138,7 @@ void Driver::publishRelativeFeedback() {
       f.progress = rotation_.progressPercent();
     }
     f.waiting = waiting_;
+    f.recovery = recovery_.describe();
     rotate_as_->publishFeedback(f);
   }
 }
@@ -218,7 +221,7 @@ void Driver::stepPath(const Pose2D& pose, double dt) {
     rebuildPath(pose);
   }
   if (blocked) {
-    if (blockedTooLong()) return finish(BLOCKED, "route blocked by an obstacle for longer than avoidance/blocked_timeout", false);
+    if (blockedTooLong()) return onBlocked("route blocked by an obstacle for longer than avoidance/blocked_timeout");
     drive(Twist2D(), dt);
   } else {
     const Twist2D desired = follower_.step(pose, limiter_.last());
@@ -244,6 +247,7 @@ void Driver::publishPathFeedback() {
   f.cross_track_error = follower_.crossTrackError();
   f.avoidance = avoidanceNow();
   f.waiting = waiting_;
+  f.recovery = recovery_.describe();
   path_as_->publishFeedback(f);
 }
 

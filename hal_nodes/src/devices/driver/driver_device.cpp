@@ -19,6 +19,7 @@ void Driver::init(DeviceContext& ctx) {
   path_config_ = readPathFollowerConfig(params);
   follower_ = PathFollower(ap, path_config_);
   avoidance_ = Avoidance(av);
+  recovery_ = Recovery(readRecoveryConfig(params), ap);
   limiter_ = VelocityLimiter(ap.limits);
   subscribeInputs(ctx);
   cmd_pub_ = ctx.nh.advertise<geometry_msgs::Twist>(settings_.cmd_vel_topic, 1);
@@ -36,6 +37,8 @@ void Driver::subscribeInputs(DeviceContext& ctx) {
   odom_ = addInput<nav_msgs::Odometry>(ctx.nh, settings_.odom_topic, "odometry");
   edit_sub_ = ctx.pnh.subscribe("path_edit", 20, &Driver::onPathEdit, this);
   if (!settings_.motor_status.empty()) diag_sub_ = ctx.nh.subscribe("/diagnostics", 20, &Driver::onDiagnostics, this);
+  for (const auto& n : recovery_.config().rear_rangers)
+    rear_rangers_.push_back(addInput<sensor_msgs::Range>(ctx.nh, settings_.ranger_prefix + n, "rear ranger " + n));
   if (avoidance_.config().mode == AvoidanceConfig::Mode::OFF) return;
   for (const auto& n : settings_.rangers)
     rangers_.push_back(addInput<sensor_msgs::Range>(ctx.nh, settings_.ranger_prefix + n, "ranger " + n, Wake::kOnArrival));
@@ -83,12 +86,13 @@ void Driver::refresh() {
     finish(TIMEOUT, "goal timeout expired", false);
     return;
   }
+  if (recovery_.running()) return stepRecovery(now, dt);
   Pose2D pose;  // in map (goto, follow_path) or odom (relative moves): read once per period
   uint8_t code;
   std::string why;
   if (!inputsSound(&pose, &code, &why)) return hold(code, why, now);
-  if (!held_since_.isZero() || !move_started_) resume(pose);
-  if (stalled(now)) return finish(BLOCKED, stall_message_, false);
+  if (!held_since_.isZero() || !move_started_ || resume_after_recovery_) resume(pose);
+  if (stalled(now)) return onBlocked(stall_message_);
   switch (mode_) {
     case Mode::GOTO: stepGoto(pose, dt); break;
     case Mode::PATH: stepPath(pose, dt); break;
@@ -120,6 +124,8 @@ void Driver::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("holding", held_since_.isZero() ? std::string("no") : waiting_);
   stat.add("goals held", holds_);
   stat.add("stalls", stalls_);
+  stat.add("recoveries", recoveries_);
+  stat.add("recovery", recovery_.running() ? recovery_.describe() : std::string("none"));
   stat.addf("last command", "v %.3f m/s, w %.3f rad/s", limiter_.last().v, limiter_.last().w);
 }
 

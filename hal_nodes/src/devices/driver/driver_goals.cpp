@@ -1,6 +1,8 @@
 // The Driver device (driver.h): the goals' lifecycle: accepted, taken over, held through a passing fault, resumed, stalled.
 #include "driver.h"
 
+#include <limits>
+
 namespace hal_nodes {
 
 bool Driver::preemptRequested() const {
@@ -41,6 +43,8 @@ void Driver::takeOver(Mode next) {
   stall_since_ = ros::Time();
   waiting_.clear();
   move_started_ = false;
+  resume_after_recovery_ = false;
+  recovery_.reset();
   limiter_.reset();
   stopNow();
 }
@@ -91,6 +95,8 @@ void Driver::resume(const Pose2D& pose) {
   held_since_ = ros::Time();
   waiting_.clear();
   limiter_.reset();
+  const bool after_recovery = resume_after_recovery_;
+  resume_after_recovery_ = false;
   switch (mode_) {
     case Mode::GOTO:
       startLeg(pose);
@@ -103,13 +109,25 @@ void Driver::resume(const Pose2D& pose) {
       rebuildPath(pose);
       break;
     case Mode::STRAIGHT:
-      if (move_started_) break;
+      if (move_started_ && !after_recovery) break;
+      if (move_started_) {  // after a recovery: what is left of the distance, from here
+        const double left = straight_.remaining();
+        straight_.start(pose, left, straight_goal_.tolerance > 0 ? straight_goal_.tolerance : settings_.default_straight_tolerance,
+                        straight_goal_.max_speed);
+        break;
+      }
       straight_.start(pose, straight_goal_.backwards ? -straight_goal_.distance : straight_goal_.distance,
                       straight_goal_.tolerance > 0 ? straight_goal_.tolerance : settings_.default_straight_tolerance,
                       straight_goal_.max_speed);
       break;
     case Mode::ROTATE:
-      if (move_started_) break;
+      if (move_started_ && !after_recovery) break;
+      if (move_started_) {  // after a recovery: what is left of the angle, from here
+        const double left = rotation_.remaining();
+        rotation_.start(pose, left, rotate_goal_.tolerance > 0 ? rotate_goal_.tolerance : settings_.default_angle_tolerance,
+                        rotate_goal_.max_speed);
+        break;
+      }
       rotation_.start(pose, rotate_goal_.angle, rotate_goal_.tolerance > 0 ? rotate_goal_.tolerance : settings_.default_angle_tolerance,
                       rotate_goal_.max_speed);
       break;
@@ -139,6 +157,78 @@ bool Driver::stalled(const ros::Time& now) {
   stall_message_ = buf;
   ++stalls_;
   return true;
+}
+
+// ---------------------------------------------------------------- recoveries
+void Driver::onBlocked(const std::string& why) {
+  BlockedAt at;
+  at.turn_left = turnLeft();
+  at.rear_free = rearFree();
+  Pose2D odom;
+  const bool have_odom = odomPose(&odom);
+  at.odom = odom;
+  std::vector<std::string> skipped;
+  if (have_odom && recovery_.start(at, ros::Time::now().toSec(), &skipped)) {
+    ++recoveries_;
+    blocked_why_ = why;
+    std::string notes;
+    for (const auto& s : skipped) notes += "; skipped " + s;
+    ROS_WARN("driver: %s: recovery %s%s", why.c_str(), recovery_.describe().c_str(), notes.c_str());
+    stall_since_ = blocked_since_ = ros::Time();
+    limiter_.reset();
+    stopNow();
+    publishFeedback();
+    return;
+  }
+  if (recovery_.count() == 0) return finish(BLOCKED, why, false);
+  const std::string tried = recovery_.tried();
+  std::string notes;
+  for (const auto& s : skipped) notes += "; skipped " + s;
+  finish(BLOCKED, why + " (recoveries tried: " + (tried.empty() ? std::string("none") : tried) + notes + ")", false);
+}
+
+void Driver::stepRecovery(const ros::Time& now, double dt) {
+  Pose2D odom;
+  if (!odomPose(&odom)) {  // no odometry to move by: stand still until it is back (or max_hold ends it)
+    char buf[96];
+    snprintf(buf, sizeof buf, "recovery %s: odometry stale (age %.2f s)", recovery_.describe().c_str(), odom_->age());
+    return hold(ODOMETRY_STALE, buf, now);
+  }
+  held_since_ = ros::Time();
+  waiting_.clear();
+  if (stalled(now)) return onBlocked(blocked_why_ + "; then the recovery stalled too");
+  const Twist2D cmd = recovery_.step(odom, limiter_.last(), now.toSec(), rearFree());
+  if (!recovery_.running()) {
+    ROS_INFO("driver: recovery done: the goal goes on from where the robot is");
+    resume_after_recovery_ = true;
+    stall_since_ = blocked_since_ = ros::Time();
+    stopNow();
+    publishFeedback();
+    return;
+  }
+  drive(cmd, dt);
+  publishFeedback();
+}
+
+double Driver::rearFree() const {
+  if (rear_rangers_.empty()) return -1.0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& r : rear_rangers_) {
+    const auto m = r->fresh(settings_.max_obstacle_age);
+    if (!m) return -1.0;
+    // Nothing seen: free as far as the ranger sees.
+    const double free = std::isfinite(m->range) && m->range < m->max_range ? m->range : m->max_range;
+    nearest = std::min(nearest, free);
+  }
+  return nearest;
+}
+
+double Driver::turnLeft() const {
+  if (mode_ == Mode::ROTATE) return rotation_.remaining();
+  if (mode_ == Mode::GOTO && waypoints_.empty() &&
+      (autopilot_.phase() == Autopilot::Phase::TURN || autopilot_.phase() == Autopilot::Phase::ROTATE))
+    return autopilot_.headingError();
+  return 0.0;
 }
 
 void Driver::publishFeedback() {

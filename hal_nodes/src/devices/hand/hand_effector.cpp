@@ -15,9 +15,13 @@
 //   ~lift/stepper   the stepper's name in that state (required)
 //   ~lift/steps_per_meter  (required, > 0), ~lift/max_height [m] (required, > 0)
 //   ~tolerance_steps (default 5), ~timeout [s] per goal (default 8), ~max_input_age [s] (default 0.5)
+//   ~holding_sensor  a switch that sees an element in the hand (contact_input.h), optional: the
+//                    action's feedback and result say `holding`, and ~holding (std_msgs/Bool,
+//                    latched) follows it, so a strategy counts what it holds, not what it tried
 #include <actionlib/server/simple_action_server.h>
 #include <hal_nodes/HandAction.h>
 #include <hcl_drivers/StepperBoardState.h>
+#include <std_msgs/Bool.h>
 #include <std_msgs/Int32.h>
 #include <std_msgs/UInt16.h>
 
@@ -25,6 +29,7 @@
 #include <cmath>
 #include <optional>
 
+#include "hal_nodes/devices/contact_input.h"
 #include "hal_nodes/device_nodelet.h"
 #include <robot_core/parameter_blocks.h>
 
@@ -60,6 +65,11 @@ class HandEffector : public Effector {
     max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
     requirePositive(ctx.pnh, "max_input_age", max_input_age_);
     state_ = addInput<StepperBoardState>(ctx.nh, requireString(lift, "state"), "stepper board");
+    if (ctx.pnh.hasParam("holding_sensor")) {
+      holding_sensor_ = ContactSpec::read(ctx.pnh, "holding_sensor");
+      holding_input_ = addInput<DigitalInputs>(ctx.nh, holding_sensor_->topic, "holding sensor");
+      holding_pub_ = ctx.pnh.advertise<std_msgs::Bool>("holding", 1, true);
+    }
     // Goals and cancels are polled in refresh(): everything happens on the refresh path, so
     // deactivation, goals and progress never race (latency: one refresh period).
     server_ = std::make_unique<actionlib::SimpleActionServer<HandAction>>(ctx.nh, ctx.name, false);
@@ -75,12 +85,16 @@ class HandEffector : public Effector {
       server_->setPreempted(HandResult(), "preempted");
     }
     const auto pos = liftPosition();
+    holding_ = readHolding();
     if (!pos) setUnavailable("no fresh state of lift stepper '" + stepper_ + "' (age " + std::to_string(state_->age()) + " s)");
+    else if (holding_sensor_ && holding_ == HandResult::HOLDING_UNKNOWN)
+      setUnavailable("no fresh holding sensor on " + holding_sensor_->topic);
     else setAvailable();
     if (!server_->isActive()) return;
     const double elapsed = (ros::Time::now() - goal_start_).toSec();
     HandFeedback fb;
     fb.height = pos ? pos->first / steps_per_meter_ : NAN;
+    fb.holding = holding_;
     if (goal_.command == HandGoal::LIFT) {
       fb.state = "lifting";
       server_->publishFeedback(fb);
@@ -152,10 +166,26 @@ class HandEffector : public Effector {
     }
   }
 
+  // 1 / 0 from the holding sensor (published on ~holding when it changes), else HOLDING_UNKNOWN.
+  int8_t readHolding() {
+    if (!holding_sensor_) return HandResult::HOLDING_UNKNOWN;
+    const auto m = holding_input_->fresh(max_input_age_);
+    const auto closed = m ? holding_sensor_->closed(*m) : std::nullopt;
+    if (!closed) return HandResult::HOLDING_UNKNOWN;
+    const int8_t now = *closed ? 1 : 0;
+    if (now != holding_) {
+      std_msgs::Bool b;
+      b.data = *closed;
+      holding_pub_.publish(b);
+    }
+    return now;
+  }
+
   void finish(bool ok, const std::string& message) {
     HandResult r;
     r.success = ok;
     r.message = message;
+    r.holding = holding_;
     if (ok) server_->setSucceeded(r, message);
     else server_->setAborted(r, message);
   }
@@ -169,6 +199,10 @@ class HandEffector : public Effector {
   std::string stepper_;
   double steps_per_meter_ = 1.0, max_height_ = 0.0, finger_time_ = 0.6, timeout_ = 8.0, max_input_age_ = 0.5;
   int tolerance_ = 5, target_steps_ = 0;
+  std::optional<ContactSpec> holding_sensor_;
+  std::shared_ptr<LatestValue<hcl_drivers::DigitalInputs>> holding_input_;
+  ros::Publisher holding_pub_;
+  int8_t holding_ = HandResult::HOLDING_UNKNOWN;
 };
 
 }  // namespace hal_nodes

@@ -28,7 +28,7 @@ struct ResolvedMotion {
 // contact normal by what the step added. A wheel (at +-wheel_base/2) stalls when less than half of
 // the ground travel it asked for happens; when both stall the robot stays where it was, the
 // motors stalled. When no push-out frees the outline (wedged between two obstacles), the step's
-// turn alone is tried, then nothing.
+// translation alone is tried, then its turn alone, then nothing.
 ResolvedMotion resolveMotion(const Footprint& outline, const Pose2D& now, const Pose2D& next,
                              const Obstacles& obstacles, double wheel_base);
 

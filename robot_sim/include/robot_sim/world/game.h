@@ -79,6 +79,7 @@ class Game {
   void stepGripper(Collector& c, const RobotBody& ours, const std::map<std::string, ServoState>& servos);
   void stepCollector(Collector& c, double dt, const RobotBody& ours);
   bool kindOk(const std::vector<std::string>& kinds, const GameElement& e) const;
+  bool isGripped(const GameElement& e) const;
 
   TableConfig table_;
   MatchConfig match_;
