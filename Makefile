@@ -1,15 +1,18 @@
 # The project's commands. Everything runs as root on Debian bookworm, with Debian's
 # python3 first on PATH (the machine's own python3 has no ROS modules).
-#   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1]  install, build, run one simulated
-#                               match headless (also logion; skeleton runs until Ctrl-C), print
-#                               the score (ours, opponent), bag and report paths
+#   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1] [OVERLAY=params.yaml]  install, build, run
+#                               one simulated match headless (also logion; skeleton runs until
+#                               Ctrl-C), print the score (ours, opponent), bag and report paths: a
+#                               folder of its own, report/ROBOT/<UTC time>_seed<k>/, and
+#                               report/ROBOT/latest to the last complete one
 #   make matches [ROBOT=eurobot2009] [N=20] [SEED=1] [FACTOR=0] [CLUSTER=tcp://HOST:8786]
-#                [WORKERS=W] [FETCH_BAGS=1]  install, build, run N seeded matches headless on a
-#                               Dask cluster (CLUSTER's scheduler, else a local one of WORKERS
-#                               processes, default one per 2 cores; opponent: random walk, route,
-#                               blocker in turn), a row per match, report/matches/ (reports,
-#                               summary PNG; bags stay on remote workers unless FETCH_BAGS=1);
-#                               exits non-zero when a match broke an invariant
+#                [WORKERS=W] [FETCH_BAGS=1] [OVERLAY=params.yaml]  install, build, run N seeded
+#                               matches headless on a Dask cluster (CLUSTER's scheduler, else a
+#                               local one of WORKERS processes, default one per 2 cores; opponent:
+#                               random walk, route, blocker, player in turn), a row per match,
+#                               report/ROBOT/matches_<UTC time>/ (reports, summary PNG; bags stay on
+#                               remote workers unless FETCH_BAGS=1), win rates; exits non-zero when
+#                               a match broke an invariant
 #   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [CLUSTER=...] [WORKERS=W] [STORAGE=URL]  an Optuna
 #                               study over config/tune/ROBOT.yaml, SEEDS matches per trial, then
 #                               the best overlay against the shipped config on held-out seeds;
@@ -20,7 +23,7 @@
 #   make chaos [ROBOT=eurobot2009] [N=10] [SEED=1] [FACTOR=0]  install, build, run N seeded
 #                               matches with faults injected mid-match (every fault class: buses,
 #                               world, processes), check the invariants, a row per match,
-#                               report/chaos/; closing line `matches N faults F violations V`,
+#                               report/ROBOT/chaos_<UTC time>/; closing line `matches N faults F violations V`,
 #                               exits non-zero on any violation
 #   make doctor [ROBOT=eurobot2009] [SIM=1] [JSON=1]  build, then check every board of the robot on
 #                               its real channel without starting the product (rosrun hcl_drivers
@@ -29,6 +32,8 @@
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
+#   make replay BAG=x.bag [ROBOT=..] [THROUGH=localization|hal] [RATE=1] [SIM=1]  replay a recorded
+#                               match; exit 3 when fewer than 95 % of its estimates come again
 #   make install-robot [ROBOT=eurobot2009] [START=1] [ROOT=DIR] [DRY_RUN=1]  on the robot's own
 #                               computer (built workspace): CAN interfaces up at their bitrate at
 #                               boot, udev names for its USB devices, the nftables firewall of its
@@ -56,6 +61,7 @@ export ROS_LANG_DISABLE := genlisp:geneus:gennodejs
 ROBOT ?= eurobot2009
 STRATEGY ?=
 SEED ?= 1
+OVERLAY ?=
 N ?=
 FACTOR ?= 0
 CLUSTER ?=
@@ -116,14 +122,15 @@ build: deps
 	  -DCATKIN_ENABLE_TESTING=ON
 
 run: build
-	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY))
+	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY)) \
+	  $(if $(OVERLAY),--overlay $(abspath $(OVERLAY)))
 
 # N seeded matches (seeds SEED, SEED+1, ...) at real_time_factor FACTOR (0: as fast as the machine goes).
 .PHONY: matches
 matches: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
 	  $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(CLUSTER),--cluster $(CLUSTER)) \
-	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags)
+	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(abspath $(OVERLAY)))
 
 # An Optuna study of config/tune/ROBOT.yaml's parameters (scripts/tune.py).
 .PHONY: tune
@@ -161,6 +168,15 @@ test: deps
 
 bench: build
 	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_bench.sh
+
+# A recorded match replayed (launch/replay.launch), its faithfulness as the exit code (scripts/replay.py).
+THROUGH ?= localization
+RATE ?= 1
+.PHONY: replay
+replay: build
+	@test -n "$(BAG)" || { echo "make replay: BAG=path.bag [ROBOT=eurobot2009] [THROUGH=localization|hal] [RATE=1] [SIM=1]"; exit 2; }
+	$(SETUP) && python3 $(ROOT)/scripts/replay.py $(abspath $(BAG)) --robot $(ROBOT) --through $(THROUGH) --rate $(RATE) \
+	  $(if $(filter 1,$(SIM)),--sim)
 
 # Match report of a recorded bag (record:=true): PNG + text next to the bag.
 #   make report [BAG=path.bag]   (default: the newest bag in ~/.ros)

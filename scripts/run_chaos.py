@@ -35,6 +35,7 @@ sys.path.insert(0, SCRIPTS)
 import chaos_faults  # noqa: E402
 import chaos_invariants as inv  # noqa: E402
 import false_alarms  # noqa: E402
+import run_folders  # noqa: E402
 import run_matches  # noqa: E402
 from match_report import Match  # noqa: E402
 
@@ -98,7 +99,8 @@ def main():
     ap.add_argument('--n', type=int, default=10)
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
-    ap.add_argument('--out', default=os.path.join(ROOT, 'report', 'chaos'))
+    ap.add_argument('--out', default=None, help='where the match folders go (default: a new '
+                    'report/ROBOT/chaos_<UTC time>/, and report/ROBOT/chaos_latest pointing to it at the end)')
     ap.add_argument('--schedule', default=None, help='YAML: a list of fault lists, one per match, used in turn')
     args = ap.parse_args()
     if not os.path.exists(os.path.join(ROOT, 'launch', args.robot + '.launch')):
@@ -115,6 +117,9 @@ def main():
         schedules = [fixed[k % len(fixed)] for k in range(args.n)]
     else:
         schedules = chaos_faults.draw_schedules(config, args.n, args.seed, duration)
+    own_folder = args.out is None
+    if own_folder:
+        args.out = run_folders.new_folder(os.path.join(ROOT, 'report', args.robot), 'chaos_' + run_folders.stamp())
     os.makedirs(args.out, exist_ok=True)
     began = time.monotonic()
     rows, lines = [], []
@@ -149,6 +154,8 @@ def main():
                            closing]
     with open(os.path.join(args.out, '%s_chaos.txt' % args.robot), 'w') as f:
         f.write('\n'.join(out) + '\n')
+    if own_folder:
+        run_folders.mark_complete(args.out, 'chaos_latest')
     print('\n'.join(out), flush=True)
     return 1 if total_violations else 0
 

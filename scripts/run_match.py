@@ -44,7 +44,9 @@ def log(msg):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('robot')
-    ap.add_argument('--out', default=os.path.join(ROOT, 'report'), help='where the bag and report go')
+    ap.add_argument('--out', default=None,
+                    help='where the bag and report go (default: a new report/ROBOT/<UTC time>_seed<k>/, and '
+                         'report/ROBOT/latest pointing to it once the match is complete)')
     ap.add_argument('--strategy', default=None)
     ap.add_argument('--seed', default='1')
     ap.add_argument('--real-time-factor', default='1.0', help='simulated seconds per wall second')
@@ -65,10 +67,16 @@ def main():
         log('starting the skeleton robot (example board, device and strategy); Ctrl-C to stop')
         os.execvp('roslaunch', ['roslaunch', launch])
 
+    own_folder = args.out is None  # `make run`: a folder of its own, `latest` once complete
+    if own_folder:
+        args.out = run_folders.new_folder(os.path.join(ROOT, 'report', args.robot),
+                                          '%s_seed%s' % (run_folders.stamp(), args.seed))
     os.makedirs(args.out, exist_ok=True)
+    log('this run\'s folder: %s' % args.out)
     bag = os.path.join(args.out, args.robot + '_match.bag')
     png = os.path.join(args.out, args.robot + '_match.png')
     import bag_parts
+    import run_folders
     for stale in [bag, bag + '.active'] + bag_parts.parts(bag):
         if os.path.exists(stale):
             os.remove(stale)
@@ -94,8 +102,12 @@ def main():
     log('starting the simulated %s robot headless: %s' % (args.robot, ' '.join(cmd[2:])))
     launch_log = open(os.path.join(args.out, args.robot + '_launch.log'), 'w')
     proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=own_session_dying_with_parent)
+    ended = False
     try:
         ended = follow_match(args, proc, launch_log.name)
+    except BaseException as e:  # Ctrl-C, a timeout: what was written stays, marked
+        run_folders.mark_incomplete(args.out, 'interrupted: %s' % (type(e).__name__ if not str(e) else e))
+        raise
     finally:
         log('stopping the robot')
         os.killpg(proc.pid, signal.SIGINT)
@@ -110,13 +122,20 @@ def main():
     if joined:
         log('the recorder was restarted during the match: %s' % joined)
     if not os.path.exists(bag):
+        run_folders.mark_incomplete(args.out, 'no bag was written: the match never started (see %s)' % launch_log.name)
         sys.exit('run: no bag was written (%s); see the launch output' % bag)
     log('writing the match report')
     rc = subprocess.call([sys.executable, os.path.join(ROOT, 'scripts', 'match_report.py'), bag, '-o', png])
     log('bag: %s' % bag)
     if rc == 0:
         log('report: %s' % png)
-    return 0 if (ended and rc == 0) else 1
+    if ended and rc == 0:
+        if own_folder:
+            log('latest: %s' % run_folders.mark_complete(args.out))
+        return 0
+    run_folders.mark_incomplete(args.out, 'the match did not end as it should (see run: lines above and %s)'
+                                % launch_log.name if not ended else 'the match report failed')
+    return 1
 
 
 def die_with_parent():

@@ -2,14 +2,15 @@
 """`make matches`: many seeded simulated matches of a robot, one at a time, headless, with a
 row of figures per match, a summary PNG and a check of the invariants every match must keep.
 
-    scripts/run_matches.py ROBOT [--n 20] [--seed 1] [--factor 0] [--out DIR] [--strategy NAME]
+    scripts/run_matches.py ROBOT [--n 20] [--seed 1] [--factor 0] [--out DIR] [--strategy NAME] [--overlay FILE]
                            [--cluster tcp://HOST:8786] [--workers W] [--fetch-bags] [--match-duration S]
 
 The matches run on a Dask distributed cluster (scripts/match_cluster.py): the scheduler at
 --cluster, or a local cluster of --workers processes (default: one per two cores). Match k (seed
 SEED + k) is one scripts/run_match.py run (launch with record:=true, wait for
 "ready", pull the start cord, follow the match to its end, stop, write the match report) in
-DIR/ROBOT_seed<seed>/ (DIR: report/matches), on a ROS master of its own. The opponent cycles
+DIR/ROBOT_seed<seed>/ (DIR: a new report/ROBOT/matches_<UTC time>/, report/ROBOT/matches_latest
+pointing to the last complete one), on a ROS master of its own. The opponent cycles
 between matches through
   random_walk  the config's own opponent (sim/world/opponent),
   route        a scripted loop around the game elements (mode script),
@@ -61,6 +62,7 @@ import yaml
 SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(SCRIPTS)
 sys.path.insert(0, SCRIPTS)
+import run_folders  # noqa: E402
 import run_match  # noqa: E402  (free_port: the project's own port range)
 import false_alarms  # noqa: E402
 from chaos_invariants import statuses  # noqa: E402
@@ -198,6 +200,20 @@ def opponent_params(kind, config):
 def match_overlay(opponent, params=None):
     """A match's parameters over the config: `params` (a tuning trial's, or none) and its opponent."""
     return merged(params or {}, {'sim': {'world': {'opponent': opponent}}})
+
+
+def user_overlay(path, who):
+    """The parameters of a user's overlay file (OVERLAY=...), {} for none; a clear exit when unreadable."""
+    if not path:
+        return {}
+    try:
+        with open(path) as f:
+            data = yaml.safe_load(f) or {}
+    except (OSError, yaml.YAMLError) as e:
+        sys.exit('%s: --overlay %s: %s' % (who, path, e))
+    if not isinstance(data, dict):
+        sys.exit('%s: --overlay %s: must be a YAML dictionary of parameters (as config/<robot>.yaml)' % (who, path))
+    return data
 
 
 def with_duration(overlay, seconds):
@@ -476,7 +492,10 @@ def main():
     ap.add_argument('--n', type=int, default=20, help='number of matches')
     ap.add_argument('--seed', type=int, default=1, help='seed of the first match (then +1 each)')
     ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
-    ap.add_argument('--out', default=os.path.join(ROOT, 'report', 'matches'), help='where the match folders go')
+    ap.add_argument('--out', default=None, help='where the match folders go (default: a new '
+                    'report/ROBOT/matches_<UTC time>/, and report/ROBOT/matches_latest pointing to it at the end)')
+    ap.add_argument('--overlay', default=None, help='YAML of parameters over the config for every match '
+                    '(as make run OVERLAY=...); each match adds its opponent')
     ap.add_argument('--strategy', default=None, help="the brain's strategy (default: the robot's)")
     ap.add_argument('--cluster', default=None, help='Dask scheduler address, tcp://HOST:8786 (default: a local cluster)')
     ap.add_argument('--workers', type=int, default=None, help='local cluster size (default: one worker per two cores)')
@@ -491,12 +510,16 @@ def main():
     config = robot_config(args.robot)
     if 'opponent' not in config.get('sim', {}).get('world', {}):
         sys.exit('matches: %s has no simulated match (no sim/world/opponent in its config)' % args.robot)
+    user = user_overlay(args.overlay, 'matches')
+    own_folder = args.out is None
+    if own_folder:
+        args.out = run_folders.new_folder(os.path.join(ROOT, 'report', args.robot), 'matches_' + run_folders.stamp())
 
     import match_cluster
     began = time.monotonic()
     jobs = [match_cluster.Job(robot=args.robot, seed=args.seed + k, opponent=OPPONENTS[k % len(OPPONENTS)],
                               factor=args.factor, strategy=args.strategy,
-                              params=with_duration({}, args.match_duration), out=args.out,
+                              params=with_duration(user, args.match_duration), out=args.out,
                               fetch_bags=args.fetch_bags, shared_disk=not args.cluster) for k in range(args.n)]
     os.makedirs(args.out, exist_ok=True)
     client, cluster = match_cluster.connect(args.cluster, args.workers)
@@ -523,6 +546,7 @@ def main():
         if cluster is not None:
             cluster.close()
     if interrupted:
+        run_folders.mark_incomplete(args.out, 'interrupted')
         return 130
 
     wall = time.monotonic() - began
@@ -536,6 +560,8 @@ def main():
     lines += [results_line(rows), closing_line(rows, len(violations), wall, args.factor)]
     with open(os.path.join(args.out, '%s_matches.txt' % args.robot), 'w') as f:
         f.write('\n'.join(lines) + '\n')
+    if own_folder:
+        lines.insert(len(lines) - 2, 'folder: %s (%s)' % (args.out, run_folders.mark_complete(args.out, 'matches_latest')))
     print('\n'.join(lines), flush=True)
     return 1 if violations else 0
 

@@ -3,6 +3,7 @@
 #include <diagnostic_msgs/DiagnosticStatus.h>
 
 #include <algorithm>
+#include <cstdio>
 
 namespace match_panel {
 
@@ -36,9 +37,14 @@ std::vector<DeviceLine> DiagnosticsSummary::lines(const ros::Time& now) const {
     line.level = kv.second.level;
     line.message = kv.second.message;
     // Receipt time, not the header stamp: publishers stamp on their own clocks.
-    if ((now - kv.second.updated).toSec() > stale_after_) {
+    const double silent = (now - kv.second.updated).toSec();
+    if (silent > stale_after_) {
+      // No fresh report: the last message is old news, not the state ("STALE: ok" misleads).
       line.stale = true;
       line.level = DiagnosticStatus::STALE;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "no report for %.0f s", silent);
+      line.message = std::string(buf) + (kv.second.message.empty() ? "" : " (last said: " + kv.second.message + ")");
     }
     result.push_back(line);
   }

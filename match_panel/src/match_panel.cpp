@@ -4,6 +4,7 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QSizePolicy>
 #include <QPushButton>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -66,6 +67,15 @@ MatchPanel::MatchPanel(QWidget* parent) : rviz::Panel(parent) {
   diagnostics_->setTextFormat(Qt::RichText);
   diagnostics_->setWordWrap(true);
   diagnostics_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+
+  // Every line wraps, and no label asks for the width of its text: a long "not ready: ..." grows
+  // the panel downwards, never the dock sideways over the 3D view.
+  form->setRowWrapPolicy(QFormLayout::WrapLongRows);
+  for (QLabel* l : {robot_, state_, score_, active_, trigger_, answer_, diagnostics_}) {
+    l->setWordWrap(true);
+    l->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
+    l->setMinimumWidth(0);
+  }
 
   auto* layout = new QVBoxLayout;
   layout->addLayout(form);

@@ -74,7 +74,8 @@ TEST(DiagnosticsSummary, NotUpdatedForThreeSecondsIsStale) {
   EXPECT_EQ("camera", lines[0].name);  // STALE ranks above ERROR
   EXPECT_TRUE(lines[0].stale);
   EXPECT_EQ(DiagnosticStatus::STALE, lines[0].level);
-  EXPECT_EQ("30 fps", lines[0].message);  // what it said last
+  // Not "STALE: 30 fps": how long it has been silent, and what it said last as such.
+  EXPECT_EQ("no report for 3 s (last said: 30 fps)", lines[0].message);
   EXPECT_EQ("STALE", match_panel::levelName(lines[0].level));
   EXPECT_EQ("drive", lines[1].name);
 }

@@ -10,15 +10,32 @@ namespace robot_core {
 namespace rules {
 
 namespace {
-[[noreturn]] void wrongType(const std::string& name, const char* expected) {
-  throw ParameterError("parameter " + name + " has the wrong type: expected " + expected);
+// The value as the user wrote it (YAML-ish), for the error line: a refused value is always quoted.
+std::string quote(XmlRpc::XmlRpcValue& v) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeString: return "'" + static_cast<std::string>(v) + "'";
+    case XmlRpc::XmlRpcValue::TypeBoolean: return static_cast<bool>(v) ? "true" : "false";
+    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(static_cast<int>(v));
+    case XmlRpc::XmlRpcValue::TypeDouble: {
+      std::ostringstream s;
+      s << static_cast<double>(v);
+      return s.str();
+    }
+    case XmlRpc::XmlRpcValue::TypeArray: return "a list of " + std::to_string(v.size());
+    case XmlRpc::XmlRpcValue::TypeStruct: return "a dictionary";
+    default: return "an unreadable value";
+  }
+}
+
+[[noreturn]] void wrongType(XmlRpc::XmlRpcValue& v, const std::string& name, const char* expected) {
+  throw ParameterError("parameter " + name + " = " + quote(v) + " has the wrong type: expected " + expected);
 }
 }  // namespace
 
 double toNumber(XmlRpc::XmlRpcValue& v, const std::string& name) {
   if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(v);
   if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(v);
-  wrongType(name, "a number");
+  wrongType(v, name, "a number");
 }
 
 int toInt(XmlRpc::XmlRpcValue& v, const std::string& name) {
@@ -28,16 +45,16 @@ int toInt(XmlRpc::XmlRpcValue& v, const std::string& name) {
     const double d = static_cast<double>(v);
     if (std::floor(d) == d && std::abs(d) < 2147483648.0) return static_cast<int>(d);
   }
-  wrongType(name, "an integer");
+  wrongType(v, name, "an integer");
 }
 
 bool toBool(XmlRpc::XmlRpcValue& v, const std::string& name) {
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) wrongType(name, "true or false");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) wrongType(v, name, "true or false");
   return static_cast<bool>(v);
 }
 
 std::string toString(XmlRpc::XmlRpcValue& v, const std::string& name) {
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) wrongType(name, "a string");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) wrongType(v, name, "a string");
   return static_cast<std::string>(v);
 }
 

@@ -59,9 +59,14 @@ TEST(Params, ErrorsNameTheParameter) {
     p.requireDouble("rate");
     FAIL() << "a string read as a number";
   } catch (const ParameterError& e) {
-    EXPECT_STREQ(e.what(), "parameter /b/rate has the wrong type: expected a number");
+    EXPECT_STREQ(e.what(), "parameter /b/rate = 'fast' has the wrong type: expected a number");  // the value quoted
   }
-  EXPECT_THROW(p.requireInt("n"), ParameterError);  // 2.5 is no integer
+  try {
+    p.requireInt("n");
+    FAIL() << "2.5 read as an integer";
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "parameter /b/n = 2.5 has the wrong type: expected an integer");
+  }
   try {
     p.requireDouble("missing");
     FAIL();

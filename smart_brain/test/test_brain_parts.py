@@ -252,9 +252,10 @@ class ReadinessDiagnosticsTest(unittest.TestCase):
                   self.status('/Boards/servo_board', DiagnosticStatus.OK, 'ok', 'true')):
             statuses[s.name] = (s.level, s.message, is_required(s))
         self.assertEqual(diagnostics_problems(statuses),
-                         ['/Boards/motor_board is STALE: not answering', '/Devices/odometry is ERROR: stale input'])
+                         ['/Boards/motor_board is STALE: no fresh report (last said: not answering)',
+                          '/Devices/odometry is ERROR: stale input'])
         self.assertEqual(diagnostics_problems(statuses, optional=['odometry']),
-                         ['/Boards/motor_board is STALE: not answering'])
+                         ['/Boards/motor_board is STALE: no fresh report (last said: not answering)'])
 
     def test_a_loaded_component_that_never_reported_holds_the_start(self):
         from diagnostic_msgs.msg import DiagnosticStatus

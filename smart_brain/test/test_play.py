@@ -146,3 +146,44 @@ class Match2009DecisionTest(unittest.TestCase):
 
 if __name__ == '__main__':
     unittest.main()
+
+
+LOGION = os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'config', 'logion.yaml')
+
+
+def strategy2008(pose):
+    """Logion's 2008 strategy configured from config/logion.yaml (brain: match2008:), its pose fixed."""
+    from smart_brain.strategies.match_2008 import Match2008Strategy
+    with open(LOGION) as f:
+        config = yaml.safe_load(f)
+    block = config['brain']['match2008']
+    t = config['table']
+    s = Match2008Strategy()
+    s.configure(lambda k, d=None: block.get(k, d), (t['length'], t['width']), t['elements'], t['score_zones'],
+                our_colour='red')
+    s.pose = lambda: pose
+    return s, block
+
+
+class Match2008DecisionTest(unittest.TestCase):
+    def test_a_trip_takes_the_most_points_per_second_and_fits_the_time_left(self):
+        s, block = strategy2008((0.25, 1.8, -math.pi / 2))
+        self.assertEqual(s.points, {'ball_red': 3, 'ball_white': 1})
+        ud = UserData(path_points=[], away=None, look=[])
+        self.assertEqual(s.choose(ud), 'harvest')
+        self.assertGreaterEqual(len(s.path), 1)
+        self.assertLessEqual(len(s.path), block['max_balls'])
+        self.assertEqual(s.path[0][0], 'ball_red')  # a red ball (3 points) before a white one (1)
+        s.time_left = 4.0                            # no trip fits: nothing held, nothing to deliver
+        self.assertIn(s.choose(ud), ('none', 'search'))
+
+    def test_what_is_held_is_counted_not_the_balls_driven_through(self):
+        s, _ = strategy2008((1.0, 1.0, 0.0))
+        ud = UserData(path_points=[], away=None, look=[])
+        self.assertEqual(s.choose(ud), 'harvest')
+        s.harvested(ud)            # the trip swallowed nothing (the throat sensor counted none)
+        s.held = 0
+        s.trackers = {k: ElementTracker([]) for k in s.trackers}  # and nothing else is known
+        self.assertNotEqual(s.choose(ud), 'deliver')
+        s.held = 2                 # two counted in: delivered
+        self.assertEqual(s.choose(ud), 'deliver')

@@ -4,13 +4,15 @@
 2. launch/replay.launch (the localization alone on the recorded HAL outputs, on the bag's clock)
    gives the match's own estimates again: every replayed /mcl/pose within 1 cm and 1 deg of the
    recorded one of the same stamp (played beside them on /recorded/mcl/pose), over the whole bag
-   from its first second to its last, at rates 1 and 2; through:=hal (every device on the
+   from its first second to its last, at rates 1 and 2, at least 95 % of them, as the replay's own
+   summary line says; through:=hal (every device on the
    recorded board states) follows the match and the truth;
 3. the match report of that bag has a localization error, a trajectory and the brain's states.
 The match: the start cord is pulled (sim /sim/set_switch) so the strategy drives."""
 import bisect
 import math
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -115,17 +117,21 @@ class ReplayLocalizationTest(unittest.TestCase):
         replayed = Track('/mcl/pose', PoseWithCovarianceStamped)
         recorded = Track('/recorded/mcl/pose', PoseWithCovarianceStamped)
         truth = Track('/sim/ground_truth', Odometry)
-        replay = roslaunch(os.path.join(ROOT, 'launch', 'replay.launch'), 'bag:=' + self.bag, 'robot:=eurobot2009',
-                           'sim:=true', *args, log=self.log)
-        try:
-            rc = replay.wait(timeout=120.0)
-        except subprocess.TimeoutExpired:
-            self.fail('replay did not end with the bag')
-        finally:
-            stop(replay)
-            for t in (replayed, recorded, truth):
-                t.sub.unregister()
+        log_path = os.path.join(self.tmp, 'replay_%s.log' % '_'.join(a.replace(':=', '') for a in args))
+        with open(log_path, 'w') as log:
+            replay = roslaunch(os.path.join(ROOT, 'launch', 'replay.launch'), 'bag:=' + self.bag, 'robot:=eurobot2009',
+                               'sim:=true', *args, log=log)
+            try:
+                rc = replay.wait(timeout=120.0)
+            except subprocess.TimeoutExpired:
+                self.fail('replay did not end with the bag')
+            finally:
+                stop(replay)
+                for t in (replayed, recorded, truth):
+                    t.sub.unregister()
         self.assertEqual(rc, 0, 'replay.launch did not end cleanly at the bag end')
+        with open(log_path) as f:
+            self.summary = [l.strip() for l in f if l.startswith('replay: reproduced')]
         return replayed.get(), recorded.get(), truth.get()
 
     def check_reproduces(self, rate):
@@ -154,6 +160,11 @@ class ReplayLocalizationTest(unittest.TestCase):
         sys.stdout.write('rate %s: first match %.2f s, last %.2f s before the end\n'
                          % (rate, min(matched) - old[0][0], old[-1][0] - max(matched)))
         self.assertEqual(missing, [], 'seconds of the bag without a replayed estimate at a stamp of the match')
+        # The replay says it itself, in one line: at least 95 % reproduced.
+        self.assertEqual(len(self.summary), 1, 'no summary line from the replay')
+        share = float(re.search(r'\(([0-9.]+) %\)', self.summary[0]).group(1))
+        self.assertGreaterEqual(share, 95.0, self.summary[0])
+        self.assertGreaterEqual(len(matched), 0.95 * len(old), self.summary[0])
 
     def test_2_replay_through_localization_reproduces_the_match_at_rate_1(self):
         self.check_reproduces(1.0)

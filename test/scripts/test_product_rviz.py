@@ -187,6 +187,22 @@ class RvizTest(unittest.TestCase):
         self.assertAlmostEqual(fx, CLOUD_AT[0] / TABLE[0], delta=0.06, msg='cloud x on screen')
         self.assertAlmostEqual(fy, CLOUD_AT[1] / TABLE[1], delta=0.08, msg='cloud y on screen')
 
+        # A long "not ready" line in the Match panel wraps: the dock does not widen and push the
+        # 3D view aside; the view keeps at least half the window.
+        from smart_brain.msg import MatchStatus
+        status = rospy.Publisher('/brain/match_status', MatchStatus, queue_size=1, latch=True)
+        long_line = 'not ready: ' + '; '.join('/Devices/device_%d: device is WARN: refreshing at 13.5 Hz, configured '
+                                              '20.0 Hz' % i for i in range(12))
+        status.publish(MatchStatus(state='waiting_for_start', ready=False, readiness=long_line, strategy='match'))
+        time.sleep(3.0)  # the panel renders at 5 Hz
+        found, _ = self.wait_for('long_status.png', lambda f: f['table'], 20.0)
+        self.assertTrue(found.get('table'), 'no table on screen after the long status')
+        lx0, _, lx1, _ = found['table']
+        width = Image.open(os.path.join(self.tmp, 'long_status.png')).size[0]
+        self.assertGreater(lx1 - lx0, 0.9 * (x1 - x0), 'the 3D view shrank: the table %d px wide, was %d'
+                           % (lx1 - lx0, x1 - x0))
+        self.assertLess(lx0, width / 2, 'the 3D view starts at %d px of %d: less than half the window' % (lx0, width))
+
 
 if __name__ == '__main__':
     rostest.rosrun('system_tests', 'product_rviz', RvizTest, sys.argv)

@@ -230,6 +230,7 @@ RobotConfig parseRobot(const Params& n) {
     c.kinds = strings(s, "kinds");
     c.capacity = static_cast<int>(integer(s, "capacity", c.capacity));
     c.motor = str(s, "motor", "");
+    c.intake_time = inRange(s, "intake_time", c.intake_time, 0.0, 5.0);
     c.fingers = strings(s, "fingers");
     if (c.fingers.empty() == c.motor.empty())
       fail(s, "motor", "give either motor (a collector) or fingers + finger_closed (a gripper)");

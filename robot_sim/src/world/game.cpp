@@ -68,15 +68,21 @@ void Game::stepCollector(Collector& c, double dt, const RobotBody& ours) {
   const double cmd = motor ? motor->command : 0.0;
   const Pose2D mouth = ours.toMap(c.config.x, c.config.y);
   c.eject_cooldown = std::max(0.0, c.eject_cooldown - dt);
-  for (auto& e : elements_) {
+  for (auto& in : c.entering) in.second -= dt;  // on their way in
+  c.entering.erase(std::remove_if(c.entering.begin(), c.entering.end(), [](const auto& in) { return in.second <= 0.0; }),
+                   c.entering.end());
+  for (std::size_t i = 0; i < elements_.size(); ++i) {
+    GameElement& e = elements_[i];
     const bool kind_ok = kindOk(c.config.kinds, e);
+    const bool entering = std::any_of(c.entering.begin(), c.entering.end(), [&](const auto& in) { return in.first == i; });
     if (cmd > 0.1 && !e.carried && kind_ok && c.held < c.config.capacity &&
         std::hypot(e.pose.x - mouth.x, e.pose.y - mouth.y) <= c.config.radius) {
       e.carried = true;
       e.carrier = e.moved_by = Mover::ours;
       ++c.held;
-    } else if (cmd < -0.1 && e.carried && e.carrier == Mover::ours && c.held > 0 && c.eject_cooldown <= 0.0 &&
-               kind_ok) {
+      if (c.config.intake_time > 0.0) c.entering.emplace_back(i, c.config.intake_time);
+    } else if (cmd < -0.1 && e.carried && e.carrier == Mover::ours && !entering && c.held > 0 &&
+               c.eject_cooldown <= 0.0 && kind_ok) {
       e.carried = false;
       e.carrier = Mover::nobody;
       e.moved_by = Mover::ours;
@@ -100,12 +106,15 @@ void Game::stepElements(double dt, const RobotBody& ours, const std::map<std::st
   // opponent's circle, and stay on the table.
   const Pose2D& pose = ours.pose();
   const double reach = ours.footprint().boundingRadius();
-  for (const auto& kv : collectors_)
-    for (std::size_t i : kv.second.gripped) {
-      const Pose2D mouth = ours.toMap(kv.second.config.x, kv.second.config.y);
+  for (const auto& kv : collectors_) {
+    const Pose2D mouth = ours.toMap(kv.second.config.x, kv.second.config.y);
+    std::vector<std::size_t> at_mouth = kv.second.gripped;
+    for (const auto& in : kv.second.entering) at_mouth.push_back(in.first);
+    for (std::size_t i : at_mouth) {
       elements_[i].pose.x = mouth.x;
       elements_[i].pose.y = mouth.y;
     }
+  }
   for (auto& e : elements_) {
     if (e.carried) {
       const bool by_opponent = e.carrier == Mover::opponent && opponent;
@@ -141,9 +150,12 @@ void Game::stepElements(double dt, const RobotBody& ours, const std::map<std::st
 }
 
 bool Game::isGripped(const GameElement& e) const {
-  for (const auto& kv : collectors_)
+  for (const auto& kv : collectors_) {
     for (std::size_t i : kv.second.gripped)
       if (&elements_[i] == &e) return true;
+    for (const auto& in : kv.second.entering)
+      if (&elements_[in.first] == &e) return true;
+  }
   return false;
 }
 

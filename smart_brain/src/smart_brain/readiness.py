@@ -64,7 +64,10 @@ def diagnostics_problems(statuses, optional=(), expected=()):
         level, message, required = statuses[name]
         if level == DiagnosticStatus.OK or not required or any(o in name for o in optional):
             continue
-        problems.append('%s is %s: %s' % (name, LEVELS.get(level, level), message))
+        if level == DiagnosticStatus.STALE:  # the aggregator's: nothing new, its last words are old news
+            problems.append('%s is STALE: no fresh report%s' % (name, ' (last said: %s)' % message if message else ''))
+        else:
+            problems.append('%s is %s: %s' % (name, LEVELS.get(level, level), message))
     return problems
 
 

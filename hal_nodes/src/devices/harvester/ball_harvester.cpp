@@ -3,18 +3,24 @@
 // swallows balls, backward unloads them. The effector sends the roller motor an
 // hcl_drivers/MotorCommand at ~rate (so the board's command timeout only stops it when HAL
 // dies). Deactivation stops the roller at once and ignores ~speed until reactivated.
-// With ~ball_sensor configured, ~ball_present (std_msgs/Bool) says a ball is in the mouth.
+// With ~ball_sensor configured (the throat sensor a swallowed ball passes), ~ball_present
+// (std_msgs/Bool) says a ball is in the mouth, and ~held (std_msgs/Int32, latched) counts what the
+// harvester holds: one more for each ball that passes the sensor while the roller swallows,
+// none once the roller has unloaded for ~empty_after [s] (default 1.5).
 //
 // Parameters (besides ~rate):
 //   ~motor_topic   the roller's command topic (/hcl/<board>/motor/<name>/command), required
 //   ~motor         MotorCommand.name (default roller)
 //   ~max_value     native command at speed 1 (e.g. HBmotor duty 127; sign flips), required, != 0
 //   ~ball_sensor   contact (contact_input.h), optional
+//   ~empty_after   [s] of unloading after which nothing is held (default 1.5)
 #include <hcl_drivers/MotorCommand.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
+#include <std_msgs/Int32.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "hal_nodes/device_nodelet.h"
@@ -35,6 +41,10 @@ class BallHarvester : public Effector {
       sensor_ = ContactSpec::read(ctx.pnh, "ball_sensor");
       sensor_input_ = addInput<DigitalInputs>(ctx.nh, sensor_->topic, "ball sensor");
       ball_pub_ = ctx.pnh.advertise<std_msgs::Bool>("ball_present", 1);
+      held_pub_ = ctx.pnh.advertise<std_msgs::Int32>("held", 1, true);
+      empty_after_ = optionalDouble(ctx.pnh, "empty_after", 1.5);
+      requirePositive(ctx.pnh, "empty_after", empty_after_);
+      publishHeld();
     }
   }
 
@@ -49,6 +59,7 @@ class BallHarvester : public Effector {
         std_msgs::Bool b;
         b.data = *closed;
         ball_pub_.publish(b);
+        count(*closed);
       }
     }
     if (!active()) return;
@@ -60,7 +71,10 @@ class BallHarvester : public Effector {
   void deactivate() override { send(0.0); }
   void halt() override { send(0.0); }
 
-  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override { stat.add("roller command", last_); }
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
+    stat.add("roller command", last_);
+    if (sensor_) stat.add("balls held", held_.load());
+  }
 
  private:
   void send(double v) {
@@ -69,12 +83,43 @@ class BallHarvester : public Effector {
     c.name = motor_;
     c.value = static_cast<int>(std::lround(v * max_value_));
     last_ = c.value;
+    speed_now_ = v;
     motor_pub_.publish(c);
+  }
+
+  // What it holds: a ball passing the sensor while the roller swallows is one more; a long
+  // enough unload leaves none.
+  void count(bool ball) {
+    const ros::Time now = ros::Time::now();
+    int held = held_;
+    if (ball && !ball_before_ && speed_now_ > 0.1) ++held;
+    ball_before_ = ball;
+    if (speed_now_ < -0.1) {
+      if (unloading_since_.isZero()) unloading_since_ = now;
+      if ((now - unloading_since_).toSec() >= empty_after_) held = 0;
+    } else {
+      unloading_since_ = ros::Time();
+    }
+    if (held != held_) {
+      held_ = held;
+      publishHeld();
+    }
+  }
+
+  void publishHeld() {
+    std_msgs::Int32 m;
+    m.data = held_;
+    held_pub_.publish(m);
   }
 
   std::string motor_;
   int max_value_ = 0, last_ = 0;
-  ros::Publisher motor_pub_, ball_pub_;
+  std::atomic<int> held_{0};  // read by diagnose() on the diagnostics thread
+  bool ball_before_ = false;
+  double speed_now_ = 0.0;  // the roller's speed -1..1 as last sent
+  ros::Time unloading_since_;
+  double empty_after_ = 1.5;
+  ros::Publisher motor_pub_, ball_pub_, held_pub_;
   std::shared_ptr<LatestValue<std_msgs::Float64>> speed_;
   std::optional<ContactSpec> sensor_;
   std::shared_ptr<LatestValue<hcl_drivers::DigitalInputs>> sensor_input_;

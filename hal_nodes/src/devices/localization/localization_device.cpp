@@ -63,6 +63,7 @@
 #include <robot_core/geometry.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -160,21 +161,27 @@ class LocalizationDevice : public Device {
       // from, so what is published at a stamp depends on nothing that arrived after it.
       double watermark, newest_any;
       NewestOdometry newest;
+      std::vector<std::pair<double, Pose2D>> arrivals;  // odometry not published at yet
       {
         std::lock_guard<std::mutex> lk2(stamp_mutex_);
         watermark = newest_odom_ - latency_;
         newest_any = newest_any_;
         newest = newest_odom_pose_;
+        arrivals.swap(unpublished_odom_);
+      }
+      // A refresh that comes late (a busy computer, a replay faster than the match) publishes
+      // at every odometry stamp it missed, each from the inputs up to that stamp as a timely
+      // one would have: the same estimates at the same stamps, however late it runs.
+      std::sort(arrivals.begin(), arrivals.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (arrivals.size() > kMaxCatchUp) arrivals.erase(arrivals.begin(), arrivals.end() - kMaxCatchUp);
+      for (const auto& [stamp, pose] : arrivals) {
+        if (stamp >= newest.stamp() || stamp <= published_stamp_) continue;  // the newest: below, as always
+        steps += stepUntil(stamp - latency_);
+        if (have_odom_ && stamp >= odom_stamp_) publishAt(stamp, carryForward(filter_->estimate().pose, odom_pose_, pose));
       }
       const double now = ros::Time::now().toSec();
       if (now - 1.0 > watermark && newest_any > 0.0) watermark = std::max(watermark, std::min(newest_any, now - 1.0));
-      for (auto& e : events_.takeUntil(watermark)) {
-        if (apply(e.stamp, e.payload)) {
-          filter_->update(e.stamp);
-          ++steps;
-          last_step_ = e.stamp;
-        }
-      }
+      steps += stepUntil(watermark);
       updates_ += steps;
       // The particles stand where the newest applied odometry put them; the odometry received
       // since carries the estimate to the present. Outputs are dated by odometry, never by a
@@ -185,11 +192,7 @@ class LocalizationDevice : public Device {
         const double stamp = carry ? newest.stamp() : odom_stamp_;
         const Pose2D pose = carry ? carryForward(filter_->estimate().pose, odom_pose_, newest.pose())
                                   : filter_->estimate().pose;
-        if (stamp != published_stamp_) {
-          published_stamp_ = stamp;
-          outputs_->publish(stamp, pose, *filter_, odom_stamp_, &odom_pose_, beacons_.get(), last_step_, force_cloud_);
-          force_cloud_ = false;
-        }
+        if (stamp != published_stamp_) publishAt(stamp, pose);
       } else if (steps > 0 && last_step_ != published_stamp_) {  // measurements without odometry
         published_stamp_ = last_step_;
         outputs_->publish(last_step_, filter_->estimate().pose, *filter_, last_step_, nullptr, beacons_.get(), last_step_,
@@ -328,6 +331,26 @@ class LocalizationDevice : public Device {
     return p;
   }
 
+  // The filter steps through the inputs up to `watermark` (filter_mutex_ held); how many steps.
+  std::size_t stepUntil(double watermark) {
+    std::size_t steps = 0;
+    for (auto& e : events_.takeUntil(watermark)) {
+      if (apply(e.stamp, e.payload)) {
+        filter_->update(e.stamp);
+        ++steps;
+        last_step_ = e.stamp;
+      }
+    }
+    return steps;
+  }
+
+  // The estimate out at an odometry stamp (filter_mutex_ held).
+  void publishAt(double stamp, const Pose2D& pose) {
+    published_stamp_ = stamp;
+    outputs_->publish(stamp, pose, *filter_, odom_stamp_, &odom_pose_, beacons_.get(), last_step_, force_cloud_);
+    force_cloud_ = false;
+  }
+
   void push(const ros::Time& stamp, int order, Payload p) {
     const double t = stamp.toSec();
     if (!std::isfinite(t) || t <= 0.0) {
@@ -339,7 +362,10 @@ class LocalizationDevice : public Device {
       if (p.kind == Payload::kOdom) {
         newest_odom_ = std::max(newest_odom_, t);
         const Pose2D q{p.a, p.b, p.c};
-        if (std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.theta)) newest_odom_pose_.offer(t, q);
+        if (std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.theta)) {
+          newest_odom_pose_.offer(t, q);
+          if (unpublished_odom_.size() < 4 * kMaxCatchUp) unpublished_odom_.emplace_back(t, q);
+        }
       }
       newest_any_ = std::max(newest_any_, t);
     }
@@ -414,6 +440,8 @@ class LocalizationDevice : public Device {
   std::mutex stamp_mutex_;
   double newest_odom_ = -1e300, newest_any_ = 0.0;
   localization::NewestOdometry newest_odom_pose_;  // what the published estimate is carried to
+  std::vector<std::pair<double, Pose2D>> unpublished_odom_;  // odometry since the last refresh (stamp_mutex_)
+  static constexpr std::size_t kMaxCatchUp = 100;  // a late refresh publishes at most this many missed stamps
   std::mutex filter_mutex_;
   Pose2D odom_pose_;
   bool have_odom_ = false;

@@ -115,6 +115,8 @@ struct CollectorConfig {
   std::vector<std::string> kinds;
   int capacity = 5;
   std::string motor;           // active while |command| > 0.1, ejects while command < -0.1
+  double intake_time = 0.0;    // [s] a swallowed element stays at the mouth this long on its way in
+                               // (under a throat sensor there, an element switch)
   // A gripper instead (the 2009 hand): no motor; it holds what is at its mouth while every
   // finger servo is within finger_tolerance of its closed angle, and lets go at the mouth when
   // a finger opens.

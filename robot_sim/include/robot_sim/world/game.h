@@ -74,6 +74,7 @@ class Game {
     int held = 0;
     double eject_cooldown = 0.0;
     std::vector<std::size_t> gripped;  // a gripper's elements (indices into elements_)
+    std::vector<std::pair<std::size_t, double>> entering;  // a collector's, at its mouth: [s] left of the intake
     bool was_closed = false;           // a gripper grips once per closing
   };
   void stepGripper(Collector& c, const RobotBody& ours, const std::map<std::string, ServoState>& servos);
