@@ -25,6 +25,10 @@
 #                               world, processes), check the invariants, a row per match,
 #                               report/ROBOT/chaos_<UTC time>/; closing line `matches N faults F violations V`,
 #                               exits non-zero on any violation
+#   make soak [ROBOT=eurobot2009] [N=10] [SEED=1] [FACTOR=0]  make matches and make chaos, N each,
+#                               one summary (violations by class, false alarms, worst recovery
+#                               per fault class, scores with and without faults), report/ROBOT/
+#                               soak_<UTC time>/; closing line `soak ROBOT matches M chaos C violations V`
 #   make doctor [ROBOT=eurobot2009] [SIM=1] [JSON=1]  build, then check every board of the robot on
 #                               its real channel without starting the product (rosrun hcl_drivers
 #                               doctor ROBOT): one table, exit 1 on any FAIL; SIM=1 starts the
@@ -41,7 +45,7 @@
 #                               robot-ROBOT.service (roslaunch sim:=false at boot on the robot's
 #                               address, ROS_IP; started now only with START=1);
 #                               ROOT= installs into a staging root and calls nothing on this
-#                               machine, DRY_RUN=1 only lists (README "The robot's computer")
+#                               machine, DRY_RUN=1 only lists (docs/real-robot.md "The robot's computer")
 #   make uninstall-robot [ROBOT=eurobot2009] [ROOT=DIR] [DRY_RUN=1]  stops, disables and removes
 #                               what install-robot installed (its manifest,
 #                               /var/lib/robot/ROBOT/installed.txt)
@@ -156,6 +160,11 @@ chaos: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_chaos.py $(ROBOT) --n $(or $(N),10) --seed $(SEED) \
 	  --factor $(FACTOR)
 
+# make matches then make chaos, N each, one summary (scripts/soak.py).
+.PHONY: soak
+soak: build
+	$(SETUP) && python3 $(ROOT)/scripts/soak.py $(ROBOT) --n $(or $(N),10) --seed $(SEED) --factor $(FACTOR)
+
 # The hardware doctor (hcl_drivers/scripts/doctor).
 .PHONY: doctor
 doctor: build
@@ -191,7 +200,7 @@ install-robot:
 	python3 $(ROOT)/scripts/robot_install.py install $(INSTALL_ROBOT_ARGS) $(if $(filter-out 0,$(START)),--start)
 uninstall-robot:
 	python3 $(ROOT)/scripts/robot_install.py uninstall $(INSTALL_ROBOT_ARGS)
-# The running firewall's allow-list, for one match (README "Nobody outside the robot drives it").
+# The running firewall's allow-list, for one match (docs/real-robot.md "Nobody outside the robot drives it").
 ADDR ?=
 allow-laptop deny-laptop:
 	@test -n "$(ADDR)" || { echo "make $@: ADDR=<the laptop's IPv4 address> (ROBOT=$(ROBOT))"; exit 2; }

@@ -5,7 +5,9 @@ end, simulated time). Every check returns violations as (time [s of match], text
   no motor runs blind  a non-zero PWM on a motor board (the emulator's own state,
                        /sim/<board>/firmware) only while the HAL commanded a non-zero speed
                        (/hcl/<board>/motor/*/command) within the board's command timeout plus its
-                       watchdog, and never with the HCL dead for longer than the watchdog
+                       watchdog, only within the watchdog of the last command frame the board
+                       received (its command_age), and never with the HCL dead for longer than
+                       the watchdog; by header stamps, never by the recorder's receive times
   the fault is named   /diagnostics: its status (chaos_faults.expected_status) at ERROR or STALE
                        within NAMED_WITHIN of its start, back to OK within CLEARED_WITHIN of its end
   nothing is lost      every periodic topic of the bag keeps coming for the whole match: no gap
@@ -24,7 +26,7 @@ import collections
 import statistics
 
 from chaos_faults import expected_status
-from match_report import errors_against_truth
+from match_report import errors_against_truth, stamp_of
 
 NAMED_WITHIN = 1.0        # [s]
 CLEARED_WITHIN = 2.0      # [s]
@@ -82,6 +84,34 @@ def _inside(t, windows, before=0.0, after=0.0):
     return any(a - before <= t <= b + after for a, b in windows)
 
 
+def blind_samples(samples, commands, window, watchdog, margin, hcl_dead=(), unrecorded=()):
+    """The motor board samples that drove blind: [(stamp, why)]. Every time is a header stamp
+    (the publisher's clock at the moment), never the recorder's receive time: under load the
+    recorder stamps late and in batches, and a command received after the PWM it caused would
+    look like no command at all.
+      samples   [(stamp, bag time, [pwm], command_age or None)] the board's own state
+      commands  sorted stamps of the HAL's non-zero motor commands
+      window    how long after a non-zero command a PWM may stay non-zero (command timeout of the
+                HCL + the board's watchdog + a sample period + margin)
+      watchdog  the board's watchdog [s]: it may drive no longer than this after its last command
+                frame on the bus (command_age: what the board says of that)
+      hcl_dead  (start, end) the HCL was killed or stalled; unrecorded: (start, end) of bag time
+                the recorder was down (the bag cannot tell then)."""
+    blind = []
+    for stamp, bag_time, pwm, command_age in samples:
+        if not any(pwm) or any(a <= bag_time <= b for a, b in unrecorded):
+            continue
+        i = bisect.bisect_right(commands, stamp)
+        if i == 0 or stamp - commands[i - 1] > window:
+            blind.append((stamp, 'no non-zero command for %.2f s' % (stamp - commands[i - 1] if i else float('inf'))))
+        elif command_age is not None and command_age > watchdog + margin:
+            blind.append((stamp, 'the board drove %.2f s after its last command frame (watchdog %.2f s)'
+                          % (command_age, watchdog)))
+        elif any(a <= stamp - (watchdog + margin) and stamp <= b for a, b in hcl_dead):
+            blind.append((stamp, 'the HCL dead for longer than the %.2f s watchdog' % watchdog))
+    return blind
+
+
 def no_motor_runs_blind(m, config, faults, t0):
     out = []
     dead = dead_windows(faults)
@@ -90,25 +120,22 @@ def no_motor_runs_blind(m, config, faults, t0):
     for topic in m.find('/sim/', '/firmware'):
         board = topic.split('/')[2]
         block = config.get('hcl', {}).get(board, {})
-        samples = [(t.to_sec(), [v for n, v in zip(msg.names, msg.values) if n.startswith('pwm')])
-                   for _, msg, t in m.read(topic)]
-        samples = [(t, pwm) for t, pwm in samples if pwm]
+        samples = []
+        for _, msg, t in m.read(topic):
+            values = dict(zip(msg.names, msg.values))
+            pwm = [v for n, v in values.items() if n.startswith('pwm')]
+            if pwm:
+                samples.append((stamp_of(msg, t), t.to_sec(), pwm, values.get('command_age')))
         if len(samples) < 2:
             continue
+        samples.sort()
         period = statistics.median(b[0] - a[0] for a, b in zip(samples, samples[1:]))
         watchdog = float(block.get('watchdog_ms', 0)) / 1000.0
-        window = float(block.get('command_timeout', 0.25)) + watchdog + period + 0.05
-        commands = sorted(t.to_sec() for c in m.find('/hcl/%s/motor/' % board, '/command')
+        margin = period + 0.05
+        window = float(block.get('command_timeout', 0.25)) + watchdog + margin
+        commands = sorted(stamp_of(msg, t) for c in m.find('/hcl/%s/motor/' % board, '/command')
                           for _, msg, t in m.read(c) if msg.value != 0)
-        blind = []
-        for t, pwm in samples:
-            if not any(pwm) or any(a <= t and t - window <= b for a, b in unrecorded):
-                continue  # (the bag cannot tell while the recorder was down)
-            i = bisect.bisect_right(commands, t)
-            if i == 0 or t - commands[i - 1] > window:
-                blind.append((t, 'no non-zero command for %.2f s' % (t - commands[i - 1] if i else float('inf'))))
-            elif any(a <= t - (watchdog + period + 0.05) and t <= b for a, b in hcl_dead):
-                blind.append((t, 'the HCL dead for longer than the %.2f s watchdog' % watchdog))
+        blind = blind_samples(samples, commands, window, watchdog, margin, hcl_dead, unrecorded)
         if blind:
             out.append((blind[0][0] - t0, 'motor blind: %s: non-zero PWM %d time(s), first: %s (window %.2f s)'
                         % (board, len(blind), blind[0][1], window)))
@@ -228,7 +255,11 @@ def first_settled(errors):
     return None
 
 
-def robot_recovers(m, faults, end, t0):
+def recoveries(m, faults, end):
+    """[(fault, since, back or None, worst)] for each injected fault that ended RECOVER_WITHIN
+    before the match end: when the localization had to be back from (its end; after a HAL or HCL
+    restart, the restarted HAL's first pose), when it was back within RECOVERED_M for SETTLED,
+    and the worst error meanwhile."""
     out = []
     errors = errors_against_truth(m.poses('/mcl/pose'), m.poses('/sim/ground_truth'))
     times = [t for t, _, _ in errors]
@@ -240,10 +271,37 @@ def robot_recovers(m, faults, end, t0):
         if f['kind'] == 'kill' and f.get('target') in ('/hal', '/hcl') and i < len(times):
             since = times[i]  # from the restarted HAL's first pose: it loads its devices first
         back = first_settled(errors[i:])
+        worst = max((e for t, e, _ in errors[i:] if t <= since + RECOVER_WITHIN), default=float('nan'))
+        out.append((f, since, back, worst))
+    return out
+
+
+def robot_recovers(m, faults, end, t0, found=None):
+    """`found`: recoveries() already computed for this match (one reading of the bag)."""
+    out = []
+    for f, since, back, worst in (found if found is not None else recoveries(m, faults, end)):
         if back is None or back > since + RECOVER_WITHIN:
-            worst = max((e for t, e, _ in errors[i:] if t <= since + RECOVER_WITHIN), default=float('nan'))
             out.append((f['end'] - t0, 'not recovered: localization not within %.0f cm of the truth %.0f s after '
                         '%s %s ended (%s; worst %.3f m)' % (100 * RECOVERED_M, RECOVER_WITHIN, f['kind'],
                                                             f.get('target', ''), 'back %.1f s after' % (back - f['end'])
                                                             if back else 'never', worst)))
     return out
+
+
+#: The classes of violations (the first words of their text), for summaries.
+CLASSES = (('motor blind', 'motor blind'), ('false alarm', 'false alarm'), ('not recovered', 'not recovered'),
+           ('lost:', 'lost'), ('the effectors', 'match end'), ('the match never', 'match end'),
+           ('node ', 'process died'), ('run_match', 'run failed'), ('no bag', 'run failed'),
+           ('our robot left', 'off the table'))
+
+
+def violation_class(text):
+    """The class of a violation's text: 'motor blind', 'not named', ... ('other' for none)."""
+    if ' not named on ' in text or 'not back to OK' in text:
+        return 'not named'
+    if ' was not injected' in text:
+        return 'not injected'
+    for prefix, name in CLASSES:
+        if text.startswith(prefix):
+            return name
+    return 'other'

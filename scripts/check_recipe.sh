@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's recipes "Adding a board" and "Adding a device", done as a new user does them, so
+# The recipes "Adding a board" and "Adding a device" (docs/adding.md), done as a new user does them, so
 # they cannot rot: copies the example board (driver + its state message), its emulator and the
 # example device under new names, drops in a test launch, builds with no list or XML edited,
 # launches the skeleton with one config overlay for the new pieces, and checks that the new

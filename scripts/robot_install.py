@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Sets the robot's own computer up for one robot, and undoes it (make install-robot /
-make uninstall-robot; README "The robot's computer").
+make uninstall-robot; docs/real-robot.md "The robot's computer").
 
     robot_install.py install ROBOT [--root DIR] [--dry-run] [--start]
     robot_install.py uninstall ROBOT [--root DIR] [--dry-run]
@@ -382,7 +382,7 @@ def robot_service(robot, can, repo=REPO, network=None):
         '# make uninstall-robot. Logs: journalctl -u robot-%s; restart: systemctl restart robot-%s' % (robot, robot),
         '[Unit]',
         'Description=Robot %s: roslaunch launch/%s.launch sim:=false' % (robot, robot),
-        '# No firewall, no robot: ROS has no authentication (README "Nobody outside the robot drives it")',
+        '# No firewall, no robot: ROS has no authentication (docs/real-robot.md "Nobody outside the robot drives it")',
         'Requires=%s' % firewall_unit_name(robot),
         'Wants=network-online.target' + (' ' + cans if cans else ''),
         'After=network-online.target %s' % firewall_unit_name(robot) + (' ' + cans if cans else ''),

@@ -83,7 +83,13 @@ def judge(folder, robot, config, rc):
     violations += false_alarms.false_alarms(series, start, end if end is not None else m.end, faults, start, config)
     violations += inv.nothing_lost(m, faults, start, end if end is not None else m.end, start, config)
     violations += inv.match_ends(m, faults, end, start, run_matches.effectors_off_delay)
-    violations += inv.robot_recovers(m, faults, end, start)
+    found = inv.recoveries(m, faults, end)
+    violations += inv.robot_recovers(m, faults, end, start, found)
+    with open(os.path.join(folder, 'recoveries.yaml'), 'w') as f:  # for make soak's worst per class
+        yaml.safe_dump([{'class': fl.get('class', fl['kind']), 'kind': fl['kind'], 'target': fl.get('target', ''),
+                         'recovered_after': None if back is None else round(back - fl['end'], 3),
+                         'worst_m': None if worst != worst else round(worst, 4)}
+                        for fl, _, back, worst in found], f, default_flow_style=False)
     left = run_matches.off_table(m.poses('/sim/ground_truth'), config['table']['length'], config['table']['width'])
     if left:
         violations.append((left[0] - start, 'our robot left the table at (%.3f, %.3f)' % (left[1], left[2])))
@@ -102,13 +108,15 @@ def main():
     ap.add_argument('--out', default=None, help='where the match folders go (default: a new '
                     'report/ROBOT/chaos_<UTC time>/, and report/ROBOT/chaos_latest pointing to it at the end)')
     ap.add_argument('--schedule', default=None, help='YAML: a list of fault lists, one per match, used in turn')
+    ap.add_argument('--match-duration', type=float, default=None,
+                    help="[s] shorter matches for a quick check of the machinery (default: the config's)")
     args = ap.parse_args()
     if not os.path.exists(os.path.join(ROOT, 'launch', args.robot + '.launch')):
         sys.exit('chaos: ROBOT=%s: no launch/%s.launch' % (args.robot, args.robot))
     config = run_matches.robot_config(args.robot)
     if 'opponent' not in config.get('sim', {}).get('world', {}):
         sys.exit('chaos: %s has no simulated match (no sim/world/opponent in its config)' % args.robot)
-    duration = float(config.get('brain', {}).get('match', {}).get('duration', 90.0))
+    duration = args.match_duration or float(config.get('brain', {}).get('match', {}).get('duration', 90.0))
     if args.schedule:
         with open(args.schedule) as f:
             fixed = yaml.safe_load(f)
@@ -128,7 +136,8 @@ def main():
         folder = os.path.join(args.out, '%s_seed%d' % (args.robot, seed))
         os.makedirs(folder, exist_ok=True)
         opponent = run_matches.opponent_params(kind, config)
-        overlay = run_matches.write_overlay(folder, run_matches.match_overlay(opponent))
+        overlay = run_matches.write_overlay(folder, run_matches.with_duration(run_matches.match_overlay(opponent),
+                                                                             args.match_duration))
         schedule = os.path.join(folder, 'schedule.yaml')
         with open(schedule, 'w') as f:
             yaml.safe_dump(schedules[k], f, default_flow_style=None)

@@ -154,7 +154,7 @@ def own_session_dying_with_parent():
 def free_port(kind):
     """A UDP or TCP port on loopback nobody holds now (this run's emulators bind it), from the
     project's 28000-28999: below the ephemeral range, so no outgoing connection takes it
-    between this check and the emulator's bind (see the README, launch arguments)."""
+    between this check and the emulator's bind (see docs/getting-started.md, launch arguments)."""
     for port in random.sample(range(28000, 29000), 1000):
         s = socket.socket(socket.AF_INET, kind)
         try:

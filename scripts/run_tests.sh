@@ -15,7 +15,7 @@ echo "== unit tests and rostests"
 # latency checks never compete with each other for the two cores.
 catkin_make -j2 -DCATKIN_ENABLE_TESTING=ON tests 2>&1 | grep -E 'error|warning' | head -n 50
 catkin_make run_tests -j1 -DCATKIN_ENABLE_TESTING=ON 2>&1 | grep -vE '^(-- |\[ *[0-9]+%\]|Scanning|Consolidate|Built target|make\[[0-9]\]: (Entering|Leaving))' | tail -n 600
-echo "== the README's recipes: a board and a device added as a user does (scripts/check_recipe.sh)"
+echo "== the recipes of docs/adding.md: a board and a device added as a user does (scripts/check_recipe.sh)"
 bash "$root/scripts/check_recipe.sh" build/test_results/recipe/recipe_check.xml 2>&1 | grep '^recipe:'
 echo "== results"
 catkin_test_results --verbose build/test_results > build/test_summary.txt 2>&1; results_rc=$?

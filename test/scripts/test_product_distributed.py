@@ -3,7 +3,7 @@
   netns "robot"   (10.x.y.1/30): the master, the skeleton's board emulator and HCL
   netns "station" (10.x.y.2/30): HAL and the brain
 joined by a veth pair and nothing else (no other address exists in either namespace).
-~mode selects how the halves are started, the two ways README "Distributed deployment" gives:
+~mode selects how the halves are started, the two ways docs/real-robot.md "Distributed deployment" gives:
   split: one launch per computer: skeleton.launch run_hal_brain:=false in "robot",
          skeleton.launch run_hcl:=false in "station";
   ssh:   ONE launch in "station" with hcl_machine:=<robot address>: roslaunch's <machine> tag

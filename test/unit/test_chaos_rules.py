@@ -187,3 +187,45 @@ class EndAndRecoveryTest(unittest.TestCase):
 
 if __name__ == '__main__':
     unittest.main()
+
+
+class MotorBlindTest(unittest.TestCase):
+    """no_motor_runs_blind's rule (blind_samples) on a recorded case it must excuse and cases it
+    must catch. The recorded case: eurobot2009 seed 3 on a loaded machine, no fault injected; the
+    robot starts turning 24.83 s into the match. The recorder received the board's first non-zero
+    PWM (stamped 24.839) at 24.807 and the commands that caused it (stamped 24.833, 24.844) at
+    24.864: by receive times the PWM came 1.23 s after the last non-zero command."""
+    WATCHDOG, MARGIN = 0.2, 0.1
+    WINDOW = 0.25 + WATCHDOG + MARGIN
+    # (stamp, bag time, [pwm0, pwm1], command_age) and the commands' (stamp, bag time), as recorded
+    SAMPLES = [(24.790, 24.807, [0.0, 0.0], 0.01), (24.839, 24.807, [25.0, -25.0], 0.006),
+               (24.853, 24.807, [31.0, -31.0], 0.009), (24.865, 25.126, [42.0, -42.0], 0.01)]
+    COMMANDS = [(23.557, 23.557), (24.833, 24.864), (24.844, 24.864), (24.855, 24.864)]  # the non-zero ones
+
+    def test_a_recorder_stamping_late_in_batches_is_no_blind_motor(self):
+        by_stamp = sorted(s for s, _ in self.COMMANDS)
+        self.assertEqual(inv.blind_samples(self.SAMPLES, by_stamp, self.WINDOW, self.WATCHDOG, self.MARGIN), [])
+        # What the rule did with receive times: the false alarm of the chaos run.
+        by_bag = [(b, b, p, a) for _, b, p, a in self.SAMPLES]
+        caught = inv.blind_samples(by_bag, sorted(b for _, b in self.COMMANDS), self.WINDOW, self.WATCHDOG, self.MARGIN)
+        self.assertEqual(len(caught), 2)
+        self.assertIn('no non-zero command for 1.25 s', caught[0][1])
+
+    def test_a_pwm_long_after_the_last_command_is_caught(self):
+        samples = [(30.0, 30.0, [40.0, 40.0], 0.01), (31.5, 31.5, [40.0, 40.0], 0.01)]
+        caught = inv.blind_samples(samples, [29.9], self.WINDOW, self.WATCHDOG, self.MARGIN)
+        self.assertEqual([s for s, _ in caught], [31.5])
+
+    def test_a_board_driving_past_its_watchdog_is_caught_from_its_own_account(self):
+        # The HAL kept commanding, but the board got no command frame for 0.6 s and still drove.
+        samples = [(40.0, 40.0, [40.0, 40.0], 0.6)]
+        caught = inv.blind_samples(samples, [39.95], self.WINDOW, self.WATCHDOG, self.MARGIN)
+        self.assertEqual(len(caught), 1)
+        self.assertIn('after its last command frame', caught[0][1])
+
+    def test_the_hcl_dead_past_the_watchdog_and_the_recorder_down(self):
+        samples = [(50.5, 50.5, [40.0, 0.0], None)]
+        self.assertEqual(len(inv.blind_samples(samples, [50.4], self.WINDOW, self.WATCHDOG, self.MARGIN,
+                                               hcl_dead=[(50.0, 51.0)])), 1)
+        self.assertEqual(inv.blind_samples(samples, [], self.WINDOW, self.WATCHDOG, self.MARGIN,
+                                           unrecorded=[(50.0, 51.0)]), [])

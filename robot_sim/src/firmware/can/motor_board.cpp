@@ -76,9 +76,11 @@ class CanMotorBoardFirmware : public CanopenFirmware {
   }
 
   void truth(CanFirmware& m) override {
-    m.names = {"pwm0", "pwm1", "encoder0", "encoder1", "watchdog_stopped", "watchdog_ms"};
+    // command_age: since the last command frame (RPDO1) the board received [s, its clock]: what
+    // the watchdog watches, so a test can tell from the bus side that no motor ran blind.
+    m.names = {"pwm0", "pwm1", "encoder0", "encoder1", "watchdog_stopped", "watchdog_ms", "command_age"};
     m.values = {double(pwm_[0]), double(pwm_[1]), double(counter(0)), double(counter(1)), watchdog_stopped_ ? 1.0 : 0.0,
-                double(watchdog_ms_)};
+                double(watchdog_ms_), now() - last_command_};
   }
 
  private:

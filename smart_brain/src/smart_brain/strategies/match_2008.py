@@ -172,6 +172,13 @@ class Match2008Strategy(MachineStrategy):
         return sm
 
     def next_round(self, outcome):
+        """The machine ended (a trigger gave up on the task: the opponent stayed in the way): where
+        the trip was going is contested for a while, and where it stood counts as blocked."""
+        if outcome == 'aborted':
+            now, pose = clock.now(), self.pose()
+            for _, x, y in self.path:
+                self.costs.met_opponent(now, x, y)
+            self.blocked.note(now, pose)
         return True  # it plays until the match ends
 
     def _roller(self, ud, speed):

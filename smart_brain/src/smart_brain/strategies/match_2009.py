@@ -167,6 +167,14 @@ class Match2009Strategy(MachineStrategy):
         return sm
 
     def next_round(self, outcome):
+        """The machine ended (a trigger gave up on the task: the opponent stayed in the way): where
+        it was going is contested for a while, and where it stood counts as blocked."""
+        if outcome == 'aborted':
+            now, pose = clock.now(), self.pose()
+            going = self.target if self.held == 0 or self.spot is None else self.spots[self.spot][:2]
+            if going is not None:
+                self.costs.met_opponent(now, going[0], going[1])
+            self.blocked.note(now, pose)
         return True  # it plays until the match ends
 
     # ---------------------------------------------------------------- decisions
@@ -213,10 +221,10 @@ class Match2009Strategy(MachineStrategy):
                 options.append((self.costs.cost(now, secs, (x, y), points), 'take', (x, y, approach)))
         if not options:
             if self.held == 0 and self.look_from:
-                ud.look = tuple(self.look_from[self.look_next % len(self.look_from)])
+                look = tuple(self.look_from[self.look_next % len(self.look_from)])
                 self.look_next += 1
-                secs = self.costs.seconds([pose, ud.look[:2]], 0.0)
-                if self.costs.fits(secs, self.time_left):
+                if self.costs.fits(self.costs.seconds([pose, look[:2]], 0.0), self.time_left):
+                    ud.look = look
                     return 'look'
             return 'none'
         _, kind, what = min(options, key=lambda o: o[0])
