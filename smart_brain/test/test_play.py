@@ -11,7 +11,17 @@ import yaml
 from smart_brain.play.blocked_spots import BlockedSpots
 from smart_brain.play.element_tracker import ElementTracker
 from smart_brain.play.task_cost import TaskCost
-from smart_brain.statemachine import UserData
+from smart_brain.statemachine import UserData, clock
+from smart_brain.statemachine.userdata import Remapper
+
+CHOOSE_2009 = ('approach', 'build_pose', 'away', 'look')  # CHOOSE's output keys, as the machine declares them
+CHOOSE_2008 = ('path_points', 'away', 'look')
+
+
+def window(data, outputs):
+    """`data` as a CHOOSE state sees it: it may write its output keys, read none."""
+    return Remapper(data, (), outputs)
+
 
 CONFIG = os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..', 'config', 'eurobot2009.yaml')
 
@@ -109,16 +119,18 @@ class Match2009DecisionTest(unittest.TestCase):
         for k in range(7):                                       # the camera at 5 Hz for 1.2 s
             s.tracker.update(0.2 * k, robot, [pushed])
         self.assertEqual([c[:2] for c in s.tracker.candidates()], [pushed])
-        ud = UserData(approach=None, build_pose=None, away=None, look=None)
+        data = UserData(approach=None, build_pose=None, away=None, look=None)
+        ud = window(data, CHOOSE_2009)
         self.assertEqual(s.choose(ud), 'take')
         self.assertEqual(s.target, pushed)
-        ax, ay, heading = ud.approach
+        ax, ay, heading = data.approach
         self.assertAlmostEqual(math.hypot(pushed[0] - ax, pushed[1] - ay), block['approach'])
         self.assertAlmostEqual(heading, math.atan2(pushed[1] - ay, pushed[0] - ax))
 
     def test_a_hand_that_closed_on_nothing_does_not_go_on_to_build(self):
         s, block = strategy2009((1.0, 1.3, -math.pi / 2))
-        ud = UserData(approach=None, build_pose=None, away=None, look=None)
+        data = UserData(approach=None, build_pose=None, away=None, look=None)
+        ud = window(data, CHOOSE_2009)
         self.assertEqual(s.choose(ud), 'take')
         target = s.target
         s.close_state = _HandState(0)
@@ -131,11 +143,11 @@ class Match2009DecisionTest(unittest.TestCase):
         self.assertEqual(s.check_held(ud), 'held')
         self.assertEqual(s.held, 1)
         self.assertEqual(s.choose(ud), 'build')
-        self.assertEqual(len(ud.build_pose), 3)
+        self.assertEqual(len(data.build_pose), 3)
 
     def test_the_last_seconds_go_to_a_task_that_can_finish(self):
         s, _ = strategy2009((0.5, 1.3, 0.0))
-        ud = UserData(approach=None, build_pose=None, away=None, look=None)
+        ud = window(UserData(approach=None, build_pose=None, away=None, look=None), CHOOSE_2009)
         s.time_left = 3.0     # no take-and-build fits in 3 s: no column is taken (a lookout at most)
         self.assertIn(s.choose(ud), ('none', 'look'))
         self.assertIsNone(s.target)
@@ -165,11 +177,27 @@ def strategy2008(pose):
     return s, block
 
 
+class Match2009MoreDecisionsTest(unittest.TestCase):
+    def test_blocked_twice_here_it_moves_away_and_with_nothing_known_it_looks(self):
+        s, block = strategy2009((0.9, 0.9, 0.0))
+        data = UserData(approach=None, build_pose=None, away=None, look=None)
+        ud = window(data, CHOOSE_2009)
+        now = clock.now()  # the strategy's clock
+        s.blocked.note(now - 5.0, (0.9, 0.9, 0.0))
+        s.blocked.note(now - 1.0, (0.92, 0.9, 0.0))
+        self.assertEqual(s.choose(ud), 'away')
+        self.assertEqual(len(data.away), 3)
+        s.blocked.moved_away((0.9, 0.9, 0.0))
+        s.tracker.elements = []  # nothing known
+        self.assertEqual(s.choose(ud), 'look')
+        self.assertIn(list(data.look), [list(map(float, p)) for p in block['look_from']])
+
+
 class Match2008DecisionTest(unittest.TestCase):
     def test_a_trip_takes_the_most_points_per_second_and_fits_the_time_left(self):
         s, block = strategy2008((0.25, 1.8, -math.pi / 2))
         self.assertEqual(s.points, {'ball_red': 3, 'ball_white': 1})
-        ud = UserData(path_points=[], away=None, look=[])
+        ud = window(UserData(path_points=[], away=None, look=[]), CHOOSE_2008)
         self.assertEqual(s.choose(ud), 'harvest')
         self.assertGreaterEqual(len(s.path), 1)
         self.assertLessEqual(len(s.path), block['max_balls'])
@@ -179,7 +207,7 @@ class Match2008DecisionTest(unittest.TestCase):
 
     def test_what_is_held_is_counted_not_the_balls_driven_through(self):
         s, _ = strategy2008((1.0, 1.0, 0.0))
-        ud = UserData(path_points=[], away=None, look=[])
+        ud = window(UserData(path_points=[], away=None, look=[]), CHOOSE_2008)
         self.assertEqual(s.choose(ud), 'harvest')
         s.harvested(ud)            # the trip swallowed nothing (the throat sensor counted none)
         s.held = 0

@@ -198,9 +198,10 @@ class Match2009Strategy(MachineStrategy):
         if self.costs.our_side is None:  # the first pose: the start zone is on our half
             self.costs.our_side = 'left' if pose[0] < self.costs.table[0] / 2.0 else 'right'
         if self.blocked.must_move_away(now, pose):
-            ud.away = self.blocked.away_from(pose)
+            away = self.blocked.away_from(pose)
             log.warning('match2009: blocked twice near (%.2f, %.2f): moving away to (%.2f, %.2f) first',
-                        pose[0], pose[1], ud.away[0], ud.away[1])
+                        pose[0], pose[1], away[0], away[1])
+            ud.away = away
             return 'away'
         options = []  # (cost, kind, payload)
         if self.held > 0:
