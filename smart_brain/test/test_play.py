@@ -62,7 +62,9 @@ class TaskCostTest(unittest.TestCase):
         self.assertEqual(c.contested(0.0, 2.0, 1.0), 0.5)   # their half
         c.met_opponent(0.0, 1.0, 1.0)
         self.assertEqual(c.contested(5.0, 1.1, 1.1), 1.0)
-        self.assertEqual(c.contested(25.0, 1.1, 1.1), 0.0)  # forgotten
+        c.met_opponent(6.0, 1.05, 1.0)
+        self.assertEqual(c.contested(7.0, 1.1, 1.1), 2.0)   # twice blocked there weighs twice
+        self.assertEqual(c.contested(60.0, 1.1, 1.1), 0.0)  # forgotten
         self.assertAlmostEqual(c.cost(0.0, 7.0, (1.0, 1.0), 3), 7.0 - 3.0)
         with self.assertRaises(ValueError):
             TaskCost({'nonsense': 1.0})

@@ -1,7 +1,7 @@
 """TaskCost: which task next, by a cost a team tunes (the strategy's `cost` block):
 
     cost = travel_weight * seconds it needs
-         + contested_weight * how contested its place is (0..1)
+         + contested_weight * how contested its place is (recent meetings near it, up to 3)
          - points_weight * the points it brings
 
 A task needs (the strategy's estimate) its travel at `speed` plus its handling time; one that
@@ -11,6 +11,8 @@ that can finish. Contested: the opponent was met (a trigger, a blocked goal) wit
 opponent's half of the table (weight `their_half`).
 """
 import math
+
+MAX_CONTEST = 3  # meetings counted near a place
 
 
 class TaskCost(object):
@@ -32,9 +34,12 @@ class TaskCost(object):
         self.meetings.append((now, x, y))
 
     def contested(self, now, x, y):
+        """How contested (x, y) is: the recent meetings with the opponent near it (each one more:
+        a place it blocked twice weighs twice), else their half's share."""
         self.meetings = [m for m in self.meetings if now - m[0] <= self.p['contested_memory']]
-        if any(math.hypot(mx - x, my - y) <= self.p['contested_radius'] for _, mx, my in self.meetings):
-            return 1.0
+        near = sum(1 for _, mx, my in self.meetings if math.hypot(mx - x, my - y) <= self.p['contested_radius'])
+        if near:
+            return float(min(near, MAX_CONTEST))
         if self.our_side is None:
             return 0.0
         theirs = x > self.table[0] / 2.0 if self.our_side == 'left' else x < self.table[0] / 2.0
