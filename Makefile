@@ -36,6 +36,11 @@
 #   make test                   install, build, run every unit test and rostest
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
+#   make calibrate BAG=x.bag [ROBOT=..] [OUT=config]  fit the robot's geometry and the simulator's
+#                               model of it (motors, slip, rangers, beacons) to a recorded match:
+#                               OUT/ROBOT.calibrated.yaml, OUT/ROBOT.calibrated.sim.yaml (overlays),
+#                               a report beside the bag; closing line `calibrate ROBOT: P parameters,
+#                               fit_rmse_wheel_speed S m/s, odometry_drift_after D mm/m (before B mm/m)`
 #   make replay BAG=x.bag [ROBOT=..] [THROUGH=localization|hal] [RATE=1] [SIM=1]  replay a recorded
 #                               match; exit 3 when fewer than 95 % of its estimates come again
 #   make install-robot [ROBOT=eurobot2009] [START=1] [ROOT=DIR] [DRY_RUN=1]  on the robot's own
@@ -66,6 +71,11 @@ ROBOT ?= eurobot2009
 STRATEGY ?=
 SEED ?= 1
 OVERLAY ?=
+# OVERLAY="a.yaml b.yaml": several overlays, each over the one before (the runners take them comma-separated)
+comma := ,
+empty :=
+space := $(empty) $(empty)
+OVERLAY_ARG = $(subst $(space),$(comma),$(strip $(abspath $(OVERLAY))))
 N ?=
 FACTOR ?= 0
 CLUSTER ?=
@@ -127,14 +137,14 @@ build: deps
 
 run: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY)) \
-	  $(if $(OVERLAY),--overlay $(abspath $(OVERLAY)))
+	  $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
 
 # N seeded matches (seeds SEED, SEED+1, ...) at real_time_factor FACTOR (0: as fast as the machine goes).
 .PHONY: matches
 matches: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
 	  $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(CLUSTER),--cluster $(CLUSTER)) \
-	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(abspath $(OVERLAY)))
+	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
 
 # An Optuna study of config/tune/ROBOT.yaml's parameters (scripts/tune.py).
 .PHONY: tune
@@ -186,6 +196,12 @@ replay: build
 	@test -n "$(BAG)" || { echo "make replay: BAG=path.bag [ROBOT=eurobot2009] [THROUGH=localization|hal] [RATE=1] [SIM=1]"; exit 2; }
 	$(SETUP) && python3 $(ROOT)/scripts/replay.py $(abspath $(BAG)) --robot $(ROBOT) --through $(THROUGH) --rate $(RATE) \
 	  $(if $(filter 1,$(SIM)),--sim)
+
+# The robot and the simulator's model of it fitted to one recorded match (scripts/calibrate.py).
+.PHONY: calibrate
+calibrate: build
+	@test -n "$(BAG)" || { echo "make calibrate: BAG=path.bag [ROBOT=eurobot2009] [OUT=config]"; exit 2; }
+	$(SETUP) && python3 $(ROOT)/scripts/calibrate.py $(ROBOT) $(abspath $(BAG)) $(if $(OUT),--out $(abspath $(OUT)))
 
 # Match report of a recorded bag (record:=true): PNG + text next to the bag.
 #   make report [BAG=path.bag]   (default: the newest bag in ~/.ros)

@@ -33,6 +33,8 @@ import sys
 import tempfile
 import time
 
+import yaml
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
 
@@ -52,7 +54,8 @@ def main():
     ap.add_argument('--real-time-factor', default='1.0', help='simulated seconds per wall second')
     ap.add_argument('--overlay', default=None,
                     help='YAML of parameters loaded after the config (the launch argument overlay), '
-                         'e.g. another opponent: sim: {world: {opponent: {...}}}')
+                         'e.g. another opponent: sim: {world: {opponent: {...}}}; several, comma-separated, '
+                         'each over the one before')
     ap.add_argument('--faults', default=None, help='YAML list of faults to inject (scripts/fault_injector.py)')
     ap.add_argument('--startup-timeout', type=float, default=120.0, help='[s, wall] to reach waiting_for_start')
     ap.add_argument('--match-timeout', type=float, default=400.0, help='[s, wall] for the match to end')
@@ -98,7 +101,14 @@ def main():
     if args.overlay:
         if 'name="overlay"' not in declared:
             sys.exit('run: launch/%s.launch has no overlay argument' % args.robot)
-        cmd.append('overlay:=' + os.path.abspath(args.overlay))
+        overlay = os.path.abspath(args.overlay)
+        if ',' in args.overlay:  # the launch loads one file: the several merged, kept beside the bag
+            overlay = os.path.join(os.path.abspath(args.out), 'overlays_merged.yaml')
+            with open(overlay, 'w') as f:
+                f.write('# scripts/run_match.py: --overlay %s, merged in that order\n' % args.overlay)
+                from run_matches import user_overlay
+                yaml.safe_dump(user_overlay(args.overlay, 'run'), f, default_flow_style=False)
+        cmd.append('overlay:=' + overlay)
     log('starting the simulated %s robot headless: %s' % (args.robot, ' '.join(cmd[2:])))
     launch_log = open(os.path.join(args.out, args.robot + '_launch.log'), 'w')
     proc = subprocess.Popen(cmd, stdout=launch_log, stderr=subprocess.STDOUT, preexec_fn=own_session_dying_with_parent)

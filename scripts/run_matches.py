@@ -202,18 +202,20 @@ def match_overlay(opponent, params=None):
     return merged(params or {}, {'sim': {'world': {'opponent': opponent}}})
 
 
-def user_overlay(path, who):
-    """The parameters of a user's overlay file (OVERLAY=...), {} for none; a clear exit when unreadable."""
-    if not path:
-        return {}
-    try:
-        with open(path) as f:
-            data = yaml.safe_load(f) or {}
-    except (OSError, yaml.YAMLError) as e:
-        sys.exit('%s: --overlay %s: %s' % (who, path, e))
-    if not isinstance(data, dict):
-        sys.exit('%s: --overlay %s: must be a YAML dictionary of parameters (as config/<robot>.yaml)' % (who, path))
-    return data
+def user_overlay(paths, who):
+    """The parameters of a user's overlay files (OVERLAY=a.yaml or OVERLAY="a.yaml b.yaml", here
+    comma-separated, each over the one before), {} for none; a clear exit when one is unreadable."""
+    out = {}
+    for path in [p for p in (paths or '').split(',') if p]:
+        try:
+            with open(path) as f:
+                data = yaml.safe_load(f) or {}
+        except (OSError, yaml.YAMLError) as e:
+            sys.exit('%s: --overlay %s: %s' % (who, path, e))
+        if not isinstance(data, dict):
+            sys.exit('%s: --overlay %s: must be a YAML dictionary of parameters (as config/<robot>.yaml)' % (who, path))
+        out = merged(out, data)
+    return out
 
 
 def with_duration(overlay, seconds):
@@ -494,7 +496,7 @@ def main():
     ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
     ap.add_argument('--out', default=None, help='where the match folders go (default: a new '
                     'report/ROBOT/matches_<UTC time>/, and report/ROBOT/matches_latest pointing to it at the end)')
-    ap.add_argument('--overlay', default=None, help='YAML of parameters over the config for every match '
+    ap.add_argument('--overlay', default=None, help='YAML of parameters (several: comma-separated) over the config for every match '
                     '(as make run OVERLAY=...); each match adds its opponent')
     ap.add_argument('--strategy', default=None, help="the brain's strategy (default: the robot's)")
     ap.add_argument('--cluster', default=None, help='Dask scheduler address, tcp://HOST:8786 (default: a local cluster)')

@@ -50,7 +50,10 @@ TEST(Avoidance, OffTheRouteOrTooFarAheadDoesNotBlock) {
   EXPECT_FALSE(a.check({{0.5, 1.0}}, {{0.6, 1.0}}).blocked);  // no route left
   EXPECT_FALSE(a.check(kRoute, {{0.3, 1.1}}).blocked);   // behind the robot
   EXPECT_FALSE(a.check(kRoute, {{0.5, 1.3}}).blocked);   // level with it, beside
-  EXPECT_TRUE(a.check(kRoute, {{0.6, 1.3}}).blocked);    // beside but ahead: the footprint would touch
+  EXPECT_TRUE(a.check(kRoute, {{0.75, 1.2}}).blocked);   // near and ahead: the opponent's centre is within clearance
+  // Near and well to the side (after a stop beside it): its centre, an opponent radius beyond the
+  // echo, stays out of the clearance along the route, so the robot may leave.
+  EXPECT_FALSE(a.check(kRoute, {{0.6, 1.3}}).blocked);
 }
 
 TEST(Avoidance, NearestOfSeveralAndAlongABend) {

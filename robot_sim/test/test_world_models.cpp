@@ -111,6 +111,25 @@ TEST(Motor, FirstOrderLagAccelAndCurrentLimits) {
   EXPECT_LT(i.speed, 0.0);
 }
 
+TEST(Motor, DeadBandHoldsSmallCommandsAndSpansTheRest) {
+  MotorConfig c;
+  c.max_speed = 20.0;
+  c.time_constant = 0.01;
+  c.max_accel = 1e6;
+  c.current_limit = 100.0;
+  c.dead_band = 0.1;
+  MotorState s;
+  s.command = 0.08;  // inside the band: friction wins
+  for (int i = 0; i < 1000; ++i) stepMotor(c, s, 0.001);
+  EXPECT_NEAR(s.speed, 0.0, 1e-9);
+  s.command = -0.55;  // halfway through what is left of the range
+  for (int i = 0; i < 1000; ++i) stepMotor(c, s, 0.001);
+  EXPECT_NEAR(s.speed, -10.0, 1e-6);
+  s.command = 1.0;
+  for (int i = 0; i < 1000; ++i) stepMotor(c, s, 0.001);
+  EXPECT_NEAR(s.speed, 20.0, 1e-6);
+}
+
 TEST(Slip, MeanGrowsWithAccelerationAndNoiseMatches) {
   SlipConfig c;
   c.per_accel = 0.02;
@@ -169,6 +188,11 @@ TEST(Ranger, NoiseStatisticsMatchConfig) {
   EXPECT_NEAR(s.std(), 0.01 + 0.02 * 1.5, 1e-3);
   EXPECT_TRUE(std::isinf(noisyRange(r, std::numeric_limits<double>::infinity(), rng)));
   EXPECT_GE(noisyRange(r, 0.0, rng), 0.03);
+
+  r.bias = 0.02;  // a sensor that reads long by 2 cm
+  Stats b;
+  for (int i = 0; i < 100000; ++i) b.add(noisyRange(r, 1.5, rng));
+  EXPECT_NEAR(b.mean(), 1.52, 5e-4);
 }
 
 TEST(Compass, HeadingBiasAndNoise) {

@@ -74,6 +74,18 @@ Avoidance::Hit Avoidance::check(const std::vector<Point2D>& route, const std::ve
       const double h = std::fabs(-(o.x - a.x) * u.y + (o.y - a.y) * u.x);
       if (h >= clearance) continue;
       if (i == 0 && tp <= 0.0) continue;  // beside or behind the robot: not in the way of where it goes
+      if (i == 0 && std::hypot(o.x - a.x, o.y - a.y) < clearance) {
+        // Already this near (an echo beside us after a stop): the echo is the opponent's near
+        // side, its centre an opponent radius further along the ray. Blocked only if the route
+        // passes that centre closer than the clearance; else every route with a forward part
+        // would be blocked and the robot could never leave.
+        const double d0 = std::hypot(o.x - a.x, o.y - a.y);
+        const Point2D c{o.x + config_.opponent_radius * (o.x - a.x) / std::max(d0, 1e-9),
+                        o.y + config_.opponent_radius * (o.y - a.y) / std::max(d0, 1e-9)};
+        const double tc = (c.x - a.x) * u.x + (c.y - a.y) * u.y;
+        const double hc = std::fabs(-(c.x - a.x) * u.y + (c.y - a.y) * u.x);
+        if (tc <= 0.0 || hc >= clearance) continue;
+      }
       const double half = std::sqrt(clearance * clearance - h * h);
       if (tp + half < 0.0 || tp - half > usable) continue;
       const double along = s0 + std::max(0.0, tp - half);

@@ -137,6 +137,7 @@ RobotConfig parseRobot(const Params& n) {
     c.drive = oneOf(m, "drive", "", {"left", "right", ""});
     c.max_speed = positive(m, "max_speed", c.max_speed);
     c.time_constant = positive(m, "time_constant", c.time_constant);
+    c.dead_band = inRange(m, "dead_band", c.dead_band, 0.0, 0.9);
     c.max_accel = positive(m, "max_accel", c.max_accel);
     c.stall_current = positive(m, "stall_current", c.stall_current);
     c.current_limit = positive(m, "current_limit", c.current_limit);
@@ -179,6 +180,7 @@ RobotConfig parseRobot(const Params& n) {
     c.beam_width = inRange(g, "beam_width", sharp ? 0.08 : 0.96, 0.0, 3.0);
     c.noise_std = nonNegative(g, "noise_std", sharp ? 0.005 : 0.01);
     c.noise_rel = nonNegative(g, "noise_rel", sharp ? 0.03 : 0.0);
+    c.bias = inRange(g, "bias", 0.0, -0.5, 0.5);
     c.sees_elements = boolean(g, "sees_elements", false);
     r.rangers[name] = c;
   }

@@ -11,7 +11,10 @@ double motorCurrent(const MotorConfig& c, double u, double w) {
 }
 
 void stepMotor(const MotorConfig& c, MotorState& s, double dt, bool blocked) {
-  const double u = std::clamp(s.command, -1.0, 1.0) * (c.inverted ? -1.0 : 1.0);
+  const double raw = std::clamp(s.command, -1.0, 1.0) * (c.inverted ? -1.0 : 1.0);
+  // Below the dead band the motor does not turn; above it the command spans the rest.
+  const double u = c.dead_band > 0.0 ? std::copysign(std::max(0.0, std::abs(raw) - c.dead_band) / (1.0 - c.dead_band), raw)
+                                     : raw;
   if (blocked) {
     const double i = std::clamp(motorCurrent(c, u, 0.0), -c.current_limit, c.current_limit);
     s.accel = -s.speed / dt;

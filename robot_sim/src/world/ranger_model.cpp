@@ -20,7 +20,7 @@ double trueRange(const RangerConfig& r, const Pose2D& robot, const TableGeometry
 
 double noisyRange(const RangerConfig& r, double true_range, Rng& rng) {
   if (!std::isfinite(true_range)) return true_range;
-  const double m = true_range + rng.gaussian(r.noise_std + r.noise_rel * true_range);
+  const double m = true_range + r.bias + rng.gaussian(r.noise_std + r.noise_rel * true_range);
   if (m > r.max_range) return std::numeric_limits<double>::infinity();
   return std::max(r.min_range, m);
 }

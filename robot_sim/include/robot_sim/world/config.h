@@ -54,6 +54,7 @@ struct MotorConfig {
   std::string drive;           // "left", "right" (a drive wheel) or "" (an auxiliary motor)
   double max_speed = 20.0;     // no-load output shaft speed at full command [rad/s]
   double time_constant = 0.05; // first-order lag [s]
+  double dead_band = 0.0;      // fraction of full command the motor does not turn below (friction)
   double max_accel = 60.0;     // [rad/s^2]
   double stall_current = 6.0;  // [A] at full command, shaft blocked
   double current_limit = 4.0;  // [A] the H-bridge limits the current to this
@@ -78,6 +79,7 @@ struct RangerConfig {
   double beam_width = 0.96;    // full cone angle [rad] (SRF02 ~55 deg)
   double noise_std = 0.01;     // [m]
   double noise_rel = 0.0;      // extra std per metre of range
+  double bias = 0.0;           // [m] added to every reading (a sensor mounted off, a curve off)
   bool sees_elements = false;  // low rangers see game elements too
 };
 

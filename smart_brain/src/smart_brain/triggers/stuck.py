@@ -1,9 +1,11 @@
 """stuck: a configured bumper contact is closed (the robot is pushing a border or the
 opponent). Handler: stop, back off `back_off` metres from odometry (go_straight
-backwards), then resume (or the configured decision if backing off failed).
+backwards), then the decision `after_back_off` (default resume: the interrupted state goes on;
+aborted: it ends aborted, so the strategy chooses again instead of driving back into the same
+contact), or `then` if backing off failed.
 
 Config (~triggers/stuck): contacts (names in /hal/bumpers/contacts), back_off [m],
-debounce (default 0.2 s: a brush against a border is not stuck), holdoff, then.
+debounce (default 0.2 s: a brush against a border is not stuck), holdoff, after_back_off, then.
 """
 import threading
 
@@ -43,11 +45,12 @@ def make(values):
     debounce = cfg.get('debounce', 0.2)
     holdoff = cfg.get('holdoff', 1.0)
     then = decision_param(cfg)
+    after = decision_param(cfg, 'after_back_off')
     cfg.done()
-    handler = StateMachine(outcomes=sorted({'resume', then, 'preempted'}))
+    handler = StateMachine(outcomes=sorted({after, then, 'preempted'}))
     handler.add('STOP', StopState(), transitions={'succeeded': 'BACK_OFF'})
     handler.add('BACK_OFF', go_straight(back_off, backwards=True, exec_timeout=5.0),
-                transitions={'succeeded': 'resume', 'aborted': then, 'preempted': 'preempted'})
+                transitions={'succeeded': after, 'aborted': then, 'preempted': 'preempted'})
     trig = Trigger(KIND, None, handler, debounce=debounce, holdoff=holdoff, priority=3)
     trig.condition = ContactWatch(contacts, trig.notify)
     return trig
