@@ -1,5 +1,6 @@
 # The project's commands. Everything runs as root on Debian bookworm, with Debian's
 # python3 first on PATH (the machine's own python3 has no ROS modules).
+#   make check-config [ROBOT=eurobot2009] [OVERLAY=a.yaml] [STRATEGY=name]  every config reader, no master, in seconds
 #   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1] [OVERLAY=params.yaml]  install, build, run
 #                               one simulated match headless (also logion; skeleton runs until
 #                               Ctrl-C), print the score (ours, opponent), bag and report paths: a
@@ -131,17 +132,29 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $(DEPS) >/dev/null && \
 	  echo "deps: installed"; fi
 
+# Every reader the nodes run at start, over the config, its sim overlay and OVERLAY, with no ROS
+# master: errors in seconds, one line each (robot_description/scripts/check_config). The runners
+# below run it first and start nothing on an error; every robot's launch file runs it too.
+CHECK_CONFIG = $(SETUP) && $(ROOT)/robot_description/scripts/check_config $(ROBOT) \
+  $(if $(OVERLAY),--overlay $(OVERLAY_ARG)) $(if $(STRATEGY),--strategy $(STRATEGY))
+.PHONY: check-config
+check-config:
+	@test -x $(ROOT)/devel/lib/hal_nodes/check_hal_config || $(MAKE) build
+	@$(CHECK_CONFIG)
+
 build: deps
 	cd $(ROOT) && catkin_make -j$(JOBS) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
 	  -DCATKIN_ENABLE_TESTING=ON
 
 run: build
+	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY)) \
 	  $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
 
 # N seeded matches (seeds SEED, SEED+1, ...) at real_time_factor FACTOR (0: as fast as the machine goes).
 .PHONY: matches
 matches: build
+	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
 	  $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(CLUSTER),--cluster $(CLUSTER)) \
 	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
@@ -149,6 +162,7 @@ matches: build
 # An Optuna study of config/tune/ROBOT.yaml's parameters (scripts/tune.py).
 .PHONY: tune
 tune: build
+	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/tune.py $(ROBOT) --trials $(TRIALS) --seeds $(SEEDS) --seed $(SEED) \
 	  --factor $(FACTOR) $(if $(CLUSTER),--cluster $(CLUSTER)) $(if $(WORKERS),--workers $(WORKERS)) \
 	  $(if $(STORAGE),--storage $(STORAGE))
@@ -167,12 +181,14 @@ worker: build
 # N seeded matches with a fault schedule each (scripts/run_chaos.py, scripts/chaos_faults.py).
 .PHONY: chaos
 chaos: build
+	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/run_chaos.py $(ROBOT) --n $(or $(N),10) --seed $(SEED) \
 	  --factor $(FACTOR)
 
 # make matches then make chaos, N each, one summary (scripts/soak.py).
 .PHONY: soak
 soak: build
+	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/soak.py $(ROBOT) --n $(or $(N),10) --seed $(SEED) --factor $(FACTOR)
 
 # The hardware doctor (hcl_drivers/scripts/doctor).

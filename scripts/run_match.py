@@ -182,7 +182,7 @@ def launch_ended(proc, launch_log):
     if proc.poll() is None:
         return None
     with open(launch_log, errors='replace') as f:
-        lines = [l.strip() for l in f if '[FATAL]' in l or 'REQUIRED process' in l]
+        lines = [l.strip() for l in f if '[FATAL]' in l or 'REQUIRED process' in l or l.startswith('config error:')]
     return '; '.join(lines[-4:]) or 'exit code %s' % proc.returncode
 
 

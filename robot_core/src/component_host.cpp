@@ -14,10 +14,10 @@ namespace robot_core {
 ComponentHost::ComponentHost(std::string package, std::string kind)
     : package_(std::move(package)), kind_(std::move(kind)), loader_(std::make_unique<nodelet::Loader>(true)) {}
 
-std::vector<std::string> ComponentHost::availableTypes() const {
+std::vector<std::string> ComponentHost::declaredTypes(const std::string& package) {
   pluginlib::ClassLoader<nodelet::Nodelet> classes("nodelet", "nodelet::Nodelet");
   std::vector<std::string> out;
-  const std::string prefix = package_ + "/";
+  const std::string prefix = package + "/";
   for (const auto& c : classes.getDeclaredClasses())
     if (c.rfind(prefix, 0) == 0) out.push_back(c.substr(prefix.size()));
   std::sort(out.begin(), out.end());

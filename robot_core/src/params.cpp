@@ -128,6 +128,13 @@ std::vector<std::string> Params::blockNames(const std::string& name) const {
   return out;
 }
 
+std::vector<std::string> Params::keys() const {
+  std::vector<std::string> out;
+  if (tree_.getType() != XmlRpc::XmlRpcValue::TypeStruct) return out;
+  for (auto& e : tree_) out.push_back(e.first);
+  return out;
+}
+
 std::vector<Params> Params::items(const std::string& name) const {
   std::vector<Params> out;
   XmlRpc::XmlRpcValue* v = find(name);

@@ -27,7 +27,9 @@ class ComponentHost {
   bool loadFromParameters(const ros::NodeHandle& pnh);
 
   // Plugin types this package declares (without the package prefix), sorted.
-  std::vector<std::string> availableTypes() const;
+  std::vector<std::string> availableTypes() const { return declaredTypes(package_); }
+  // The same for any package, with no master and no host (check_components).
+  static std::vector<std::string> declaredTypes(const std::string& package);
   const std::vector<std::string>& loaded() const { return loaded_; }
 
  private:

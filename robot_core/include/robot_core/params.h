@@ -37,6 +37,8 @@ class Params {
   // The names of the dictionaries under a dictionary `name` (motors: {left: {..}, right: {..}}),
   // in key order; none when absent.
   std::vector<std::string> blockNames(const std::string& name) const;
+  // Every key of this dictionary, whatever its value (none when this is not a dictionary).
+  std::vector<std::string> keys() const;
   // The dictionaries of a list `name` (zones: [{..}, {..}]), named "<name>[i]"; none when absent.
   std::vector<Params> items(const std::string& name) const;
   const std::string& ns() const { return ns_; }

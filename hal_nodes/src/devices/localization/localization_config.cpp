@@ -25,10 +25,12 @@ void readInRange(const Params& p, const std::string& name, double* value, double
 
 // ~ and /table each read with one request to the master (Params::of).
 LocalizationConfig readLocalizationConfig(const ros::NodeHandle& pnh) {
+  return readLocalizationConfig(Params::of(pnh), Params::of(ros::NodeHandle("/table")));
+}
+
+LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) {
   LocalizationConfig c;
-  const Params p = Params::of(pnh);
   // ---- the table (one source of truth: /table) ----
-  const Params table = Params::of(ros::NodeHandle("/table"));
   c.table_length = table.requireDouble("length");
   c.table_width = table.requireDouble("width");
   table.requireInRange("length", c.table_length, 0.1, 100.0);

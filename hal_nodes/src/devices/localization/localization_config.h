@@ -4,6 +4,7 @@
 #pragma once
 
 #include <ros/ros.h>
+#include <robot_core/params.h>
 
 #include <string>
 #include <vector>
@@ -56,6 +57,8 @@ struct LocalizationConfig {
 
 // Reads ~ (pnh) and /table. Throws ParameterError.
 LocalizationConfig readLocalizationConfig(const ros::NodeHandle& pnh);
+// The same from readers already placed (the device's block and /table of a YAML file: check_hal_config).
+LocalizationConfig readLocalizationConfig(const robot_core::Params& device, const robot_core::Params& table);
 
 }  // namespace localization
 }  // namespace hal_nodes

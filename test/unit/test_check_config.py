@@ -1,0 +1,107 @@
+"""check_config (make check-config, and every robot's launch file): every robot's own config passes;
+a bad one is refused in seconds, one line per error naming the parameter and the value given, and
+a launch with a bad parameter ends before it starts anything (no ROS master is needed or started).
+"""
+import glob
+import os
+import subprocess
+import tempfile
+import time
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CHECK = os.path.join(ROOT, 'robot_description', 'scripts', 'check_config')
+# The check answers in about 2 s here; the bound keeps a loaded CI machine from failing it while
+# still telling a check from a launch that waits two minutes for a robot to become ready.
+ANSWER_BOUND_S = 10.0
+
+
+def robots():
+    """Every robot the product ships: config/ROBOT.yaml with its launch/ROBOT.launch."""
+    names = [os.path.basename(p)[:-len('.launch')] for p in glob.glob(os.path.join(ROOT, 'launch', '*.launch'))]
+    return sorted(n for n in names if os.path.exists(os.path.join(ROOT, 'config', n + '.yaml')))
+
+
+def run(args):
+    t0 = time.monotonic()
+    done = subprocess.run([CHECK] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+    return done.returncode, done.stdout, done.stderr, time.monotonic() - t0
+
+
+class CheckConfigTest(unittest.TestCase):
+    def overlay(self, text):
+        f = tempfile.NamedTemporaryFile('w', suffix='.yaml', delete=False)
+        f.write(text)
+        f.close()
+        self.addCleanup(os.unlink, f.name)
+        return f.name
+
+    def refused(self, args, *expected):
+        code, out, err, elapsed = run(args)
+        self.assertEqual(code, 1, 'not refused: %s%s' % (out, err))
+        errors = [l for l in err.splitlines() if l.startswith('config error: ')]
+        for text in expected:
+            self.assertTrue(any(text in l for l in errors), '%r in no error line of:\n%s' % (text, err))
+        self.assertLess(elapsed, ANSWER_BOUND_S)
+        return errors
+
+    def test_every_shipped_robot_passes(self):
+        self.assertGreaterEqual(len(robots()), 3)
+        for robot in robots():
+            for sim in ('true', 'false'):
+                code, out, err, _ = run([robot, '--sim', sim])
+                self.assertEqual(code, 0, '%s sim=%s: %s' % (robot, sim, err))
+                self.assertIn('ok', out)
+
+    def test_unknown_strategy(self):
+        self.refused(['eurobot2009', '--strategy', 'mach'],
+                     "/brain/strategy = 'mach': unknown strategy; allowed values: ", 'match2009')
+
+    def test_wrong_type_quotes_the_value(self):
+        path = self.overlay('hal:\n  driver:\n    limits: {max_linear_speed: "fast"}\n')
+        self.refused(['eurobot2009', '--overlay', path],
+                     "/hal/driver/limits/max_linear_speed = 'fast' has the wrong type: expected a number")
+
+    def test_every_error_at_once_value_out_of_range_and_unknown_board(self):
+        path = self.overlay('hal:\n  localization: {particles: 5}\nhcl:\n  motor_board: {type: Motorboard}\n'
+                            'sim:\n  world:\n    beacons: {noise_std: -1}\n')
+        errors = self.refused(['logion', '--overlay', path],
+                              '/hal/localization/particles = 5: must be in',
+                              "/hcl/motor_board/type = 'Motorboard': unknown board type; allowed values: ",
+                              '/sim/world/beacons/noise_std = -1')
+        self.assertEqual(len(errors), 3)
+
+    def test_several_overlays_each_over_the_one_before(self):
+        bad = self.overlay('hal:\n  driver:\n    limits: {max_linear_speed: "fast"}\n')
+        fixed = self.overlay('hal:\n  driver:\n    limits: {max_linear_speed: 0.4}\n')
+        code, _, err, _ = run(['eurobot2009', '--overlay', bad + ',' + fixed])
+        self.assertEqual(code, 0, err)
+
+    def test_unreadable_files_are_named(self):
+        code, _, err, _ = run(['no_such_robot'])
+        self.assertEqual(code, 2)
+        self.assertIn('no_such_robot.yaml', err)
+        self.assertIn('eurobot2009', err)  # the robots there are
+        path = self.overlay('hal: [1\n')
+        code, _, err, _ = run(['eurobot2009', '--overlay', path])
+        self.assertEqual(code, 1)
+        self.assertIn('is not valid YAML', err)
+
+    def test_a_launch_with_a_bad_parameter_ends_before_any_node(self):
+        env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1')  # no master: none may be needed
+        t0 = time.monotonic()
+        done = subprocess.run(['roslaunch', os.path.join(ROOT, 'launch', 'logion.launch'), 'strategy:=mach'],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, env=env,
+                              timeout=60)
+        elapsed = time.monotonic() - t0
+        self.assertNotEqual(done.returncode, 0, done.stdout)
+        lines = [l for l in done.stdout.splitlines() if l.startswith('config error: ')]
+        self.assertEqual(len(lines), 1, done.stdout)
+        self.assertIn("/brain/strategy = 'mach'", lines[0])
+        self.assertNotIn('started roslaunch server', done.stdout)
+        self.assertNotIn('process[', done.stdout)  # no node started, so none respawns
+        self.assertLess(elapsed, ANSWER_BOUND_S)
+
+
+if __name__ == '__main__':
+    unittest.main()
