@@ -1,5 +1,6 @@
 # The project's commands. Everything runs as root on Debian bookworm, with Debian's
 # python3 first on PATH (the machine's own python3 has no ROS modules).
+#   make new-robot NAME=my_robot [FROM=skeleton|eurobot2009|logion]  a new robot's files from a template
 #   make check-config [ROBOT=eurobot2009] [OVERLAY=a.yaml] [STRATEGY=name]  every config reader, no master, in seconds
 #   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1] [OVERLAY=params.yaml]  install, build, run
 #                               one simulated match headless (also logion; skeleton runs until
@@ -212,6 +213,13 @@ replay: build
 	@test -n "$(BAG)" || { echo "make replay: BAG=path.bag [ROBOT=eurobot2009] [THROUGH=localization|hal] [RATE=1] [SIM=1]"; exit 2; }
 	$(SETUP) && python3 $(ROOT)/scripts/replay.py $(abspath $(BAG)) --robot $(ROBOT) --through $(THROUGH) --rate $(RATE) \
 	  $(if $(filter 1,$(SIM)),--sim)
+
+# A new robot's files from a template (scripts/new_robot.py): config, sim overlay, launch, URDF, rviz.
+.PHONY: new-robot
+new-robot:
+	@test -n "$(NAME)" || { echo "make new-robot NAME=my_robot [FROM=skeleton|eurobot2009|logion]"; exit 2; }
+	@test -x $(ROOT)/devel/lib/hal_nodes/check_hal_config || $(MAKE) build
+	$(SETUP) && python3 $(ROOT)/scripts/new_robot.py $(NAME) --from $(or $(FROM),skeleton)
 
 # The robot and the simulator's model of it fitted to one recorded match (scripts/calibrate.py).
 .PHONY: calibrate

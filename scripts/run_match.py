@@ -11,7 +11,7 @@ shows the cord inserted (HAL human interface, /hal/hmi/input), pulls the start c
 (the simulated cord switch, read by the boards, the HMI device and the brain), follows the
 match clock, stops everything once the brain reports the match ended, and writes the match
 report. Prints where the bag and the report are and the referee's score. Robots without a
-match (skeleton) just run. With --faults, the schedule's faults are injected into the match at
+match (no table in their config: the skeleton) just run. With --faults, the schedule's faults are injected into the match at
 their match times (scripts/fault_injector.py: `make chaos`), and what was injected when is
 written to OUT/faults.yaml. A recorder that was killed and respawned left parts of the bag:
 they are joined into the one bag (scripts/bag_parts.py) before the report.
@@ -66,8 +66,10 @@ def main():
         robots = sorted(f[:-7] for f in os.listdir(os.path.join(ROOT, 'launch')) if f.endswith('.launch')
                         and f != 'replay.launch')
         sys.exit('run: ROBOT=%s: no launch/%s.launch; allowed values: %s' % (args.robot, args.robot, ', '.join(robots)))
-    if args.robot == 'skeleton':
-        log('starting the skeleton robot (example board, device and strategy); Ctrl-C to stop')
+    with open(os.path.join(ROOT, 'config', args.robot + '.yaml')) as f:
+        plays_matches = 'table' in (yaml.safe_load(f) or {})
+    if not plays_matches:  # a robot on a desk (the skeleton and its copies): no match to play
+        log('starting %s (no table in its config: no match to play); Ctrl-C to stop' % args.robot)
         os.execvp('roslaunch', ['roslaunch', launch])
 
     own_folder = args.out is None  # `make run`: a folder of its own, `latest` once complete

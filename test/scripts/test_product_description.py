@@ -3,6 +3,7 @@
 and rviz rely on, and config/<robot>.yaml names only frames that exist in its URDF (a ranger's
 frame_id is a link; a simulated ranger's mount is where the URDF puts it).
 Also: table_markers draws the config's table and refuses a bad one with one clear line."""
+import glob
 import math
 import os
 import subprocess
@@ -20,14 +21,35 @@ ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__))
 URDF_DIR = os.path.join(rospkg.RosPack().get_path('robot_description'), 'urdf')
 COMMON = ['base_link', 'base_footprint', 'left_wheel_link', 'right_wheel_link', 'caster_link',
           'compass_link', 'beacon_receiver_link', 'camera_link', 'camera_optical_frame']
-EXPECTED = {
-    'eurobot2009': COMMON + ['hand_link', 'hand_lift_link', 'hand_left_finger_link', 'hand_right_finger_link',
+# Frames beyond those of a robot on the table (COMMON) that rviz and the robot's devices rely on.
+EXTRA_FRAMES = {
+    'eurobot2009': ['hand_link', 'hand_lift_link', 'hand_left_finger_link', 'hand_right_finger_link',
                     'left_free_wheel_link', 'right_free_wheel_link'],
-    'logion': COMMON + ['harvester_link', 'harvester_door_link'],
-    'skeleton': ['base_link', 'lamp_link'],
+    'logion': ['harvester_link', 'harvester_door_link'],
+    'skeleton': ['lamp_link'],
 }
 GLOBAL_FRAMES = {'map', 'odom'}
 FRAME_KEYS = ('frame_id', 'frame', 'sensor_frame', 'camera_frame', 'receiver_frame', 'base_frame')
+
+
+def robots():
+    """Every robot here: a launch/ROBOT.launch with its config/ROBOT.yaml (a new robot is checked too)."""
+    names = [os.path.basename(p)[:-len('.launch')] for p in glob.glob(os.path.join(ROOT, 'launch', '*.launch'))]
+    return sorted(n for n in names if os.path.exists(os.path.join(ROOT, 'config', n + '.yaml')))
+
+
+def table_robots():
+    """The robots that play on the table: their simulator has a driven robot (sim/world/robot)."""
+    return [r for r in robots() if 'wheel_base' in sim_robot(load_config(r, True)[1])]
+
+
+def sim_robot(sim):
+    return ((sim.get('sim') or {}).get('world') or {}).get('robot') or {}
+
+
+def expected_frames(robot):
+    common = COMMON if robot in table_robots() else ['base_link']
+    return common + EXTRA_FRAMES.get(robot, [])
 
 
 def parse(robot):
@@ -70,7 +92,9 @@ def load_config(robot, sim):
 
 class DescriptionTest(unittest.TestCase):
     def test_urdf_is_one_tree_with_expected_frames(self):
-        for robot, expected in EXPECTED.items():
+        self.assertGreaterEqual(len(robots()), 3)
+        for robot in robots():
+            expected = expected_frames(robot)
             links, joints = parse(robot)
             self.assertEqual(len(links), len(set(links)), '%s: duplicate link names' % robot)
             roots = [l for l in links if l not in joints]
@@ -79,12 +103,12 @@ class DescriptionTest(unittest.TestCase):
                 self.assertIn(parent, links, '%s: joint to %s from unknown %s' % (robot, child, parent))
             for frame in expected:
                 self.assertIn(frame, links, '%s: frame %s missing' % (robot, frame))
-            if robot != 'skeleton':
+            if robot in table_robots():
                 rangers = [l for l in links if l.startswith('ranger_')]
                 self.assertGreaterEqual(len(rangers), 4, '%s: rangers %s' % (robot, rangers))
 
     def test_config_frames_exist_in_urdf(self):
-        for robot in ('eurobot2009', 'logion', 'skeleton'):
+        for robot in robots():
             links, _ = parse(robot)
             cfg, sim = load_config(robot, True)
             for path, frame in frames_named_in(cfg) + frames_named_in(sim):
@@ -95,7 +119,7 @@ class DescriptionTest(unittest.TestCase):
         # sim/world/robot/rangers/<name>/mount: [x, y, theta] in base_link; the URDF link is
         # <name> or ranger_<name>. A ranger the simulator has must be in the URDF, same place.
         checked = 0
-        for robot in ('eurobot2009', 'logion'):
+        for robot in table_robots():
             links, joints = parse(robot)
             _, sim = load_config(robot, True)
             rangers = (((sim.get('sim') or {}).get('world') or {}).get('robot') or {}).get('rangers') or {}
@@ -120,7 +144,7 @@ class DescriptionTest(unittest.TestCase):
     def test_simulated_geometry_matches_urdf(self):
         # Wheels (radius, track) and the collision outline of sim/world/robot match the URDF.
         checked = 0
-        for robot in ('eurobot2009', 'logion'):
+        for robot in table_robots():
             _, joints = parse(robot)
             _, sim = load_config(robot, True)
             world_robot = ((sim.get('sim') or {}).get('world') or {}).get('robot') or {}
@@ -141,7 +165,7 @@ class DescriptionTest(unittest.TestCase):
         # config/<robot>.yaml robot: the URDF, the simulated robot and every block of the config
         # that uses a radius, a track or the encoder scale agree with it.
         checked = 0
-        for robot in ('eurobot2009', 'logion'):
+        for robot in table_robots():
             cfg, sim = load_config(robot, True)
             geometry = cfg['robot']
             hal = cfg['hal']
