@@ -85,3 +85,18 @@ TEST(HermitePath, EmptyWithoutCheckpoints) {
   EXPECT_TRUE(path.empty());
   EXPECT_TRUE(path.sample(0.01).empty());
 }
+
+TEST(HermitePath, StartsAlongTheChordWhenTheRobotFacesAway) {
+  // In a corner facing it (-135 deg), the next checkpoint out on the table behind the robot: the
+  // curve must not loop forwards into the corner first.
+  const Pose2D in_corner{0.30, 0.29, -2.36};
+  const HermitePath path(in_corner, {{0.75, 1.04}, {1.14, 1.61}});
+  for (const auto& p : path.sample(0.01)) {
+    EXPECT_GE(p.x, in_corner.x - 1e-9);
+    EXPECT_GE(p.y, in_corner.y - 1e-9);
+  }
+  // Facing less than 90 degrees off the chord, the robot's heading still starts the curve.
+  const Pose2D sideways{0.30, 0.29, 0.0};
+  const Point2D d = HermitePath(sideways, {{0.75, 1.04}}).derivative(0, 0.0);
+  EXPECT_NEAR(std::atan2(d.y, d.x), 0.0, 1e-9);
+}

@@ -26,6 +26,13 @@ HermitePath::HermitePath(const Pose2D& start, const std::vector<Checkpoint>& che
     Point2D dir;
     if (i == 0) {
       dir = {std::cos(start.theta), std::sin(start.theta)};
+      // Facing away from the first checkpoint, the robot's heading would loop the curve forwards
+      // first (into the corner or the container behind it): start along the chord instead; the
+      // follower turns in place onto it.
+      if (n > 1) {
+        const Point2D to_next = unit(points_[1].x - points_[0].x, points_[1].y - points_[0].y);
+        if (dir.x * to_next.x + dir.y * to_next.y < 0.0) dir = to_next;
+      }
     } else if (checkpoints[i - 1].has_heading) {
       dir = {std::cos(checkpoints[i - 1].heading), std::sin(checkpoints[i - 1].heading)};
     } else if (i + 1 < n) {

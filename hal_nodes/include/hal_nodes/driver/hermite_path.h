@@ -5,7 +5,8 @@
 //
 // Tangents: a checkpoint may fix its heading; by default the tangent points to the next
 // checkpoint (the last one: along the incoming chord), the start node's tangent is the robot's
-// heading. The tangent length is the shorter of the two adjacent chords, which keeps short
+// heading, unless the robot faces away from the first checkpoint (more than 90 degrees off the
+// chord): then the chord's direction, so the curve never loops out behind the goal. The tangent length is the shorter of the two adjacent chords, which keeps short
 // segments from looping.
 #pragma once
 

@@ -169,6 +169,7 @@ LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) 
   const double save_pose_rate = p.optionalDouble("save_pose_rate", 0.5);
   p.requireInRange("save_pose_rate", save_pose_rate, 0.0, 100.0);
   c.save_pose_period = save_pose_rate > 0.0 ? 1.0 / save_pose_rate : 0.0;
+  readInRange(p, "lost_error_after", &c.lost_error_after, 0.0, 60.0);
   return c;
 }
 

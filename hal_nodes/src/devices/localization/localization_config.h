@@ -46,6 +46,7 @@ struct LocalizationConfig {
   std::vector<double> initial_pose;  // [x, y, theta] or empty
   double initial_std_xy = 0.02, initial_std_theta = 0.02;
   double save_pose_period = 2.0;     // [s] the estimate saved as ~initial_pose_* (0: never)
+  double lost_error_after = 1.0;     // [s] lost this long: ERROR; before, a WARN while it re-localizes
 
   // Outputs and timing.
   std::string map_frame = "map", odom_frame = "odom", base_frame = "base_link";

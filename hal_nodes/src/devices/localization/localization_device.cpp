@@ -35,6 +35,9 @@
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
 //   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
 //   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
+//   ~lost_error_after [1 s]: a filter lost this long is unavailable (ERROR on /diagnostics); a shorter
+//             spell (a sensor reset after a slip against a wall, re-localized from the beacons within
+//             the second) is a WARN: the quality says lost all along, so the driver holds meanwhile
 //   ~save_pose_rate [0.5 Hz, simulated time in simulation; 0: never]: the estimate, while not lost,
 //             is written back to ~initial_pose, ~initial_std_xy and ~initial_std_theta (amcl's
 //             save_pose_rate), so a respawned HAL resumes where the robot was
@@ -63,6 +66,7 @@
 #include <robot_core/geometry.h>
 
 #include <chrono>
+#include <cstdio>
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -108,6 +112,7 @@ class LocalizationDevice : public Device {
     name_ = ctx.name;
     const LocalizationConfig c = localization::readLocalizationConfig(ctx.pnh);
     save_pose_period_ = c.save_pose_period;
+    lost_error_after_ = c.lost_error_after;
     latency_ = c.latency;
     map_frame_ = c.map_frame;
     table_ = std::make_shared<mcl::TableModel>(c.table_length, c.table_width, c.robot_radius, c.obstacles);
@@ -206,9 +211,28 @@ class LocalizationDevice : public Device {
       cost_ms_ = ms / static_cast<double>(steps);
       cost_max_ms_ = std::max(cost_max_ms_, cost_ms_);
     }
-    if (!have_odom_) setUnavailable("no odometry received yet");
-    else if (filter_->estimate().lost) setUnavailable("lost: recovering (global localization / sensor resetting)");
-    else setAvailable();
+    reportLost(filter_->estimate().lost);
+  }
+
+  // Lost: unavailable once it has lasted lost_error_after (sim time), a WARN until then.
+  void reportLost(bool lost) {
+    const double now = ros::Time::now().toSec();
+    if (!lost) lost_since_ = -1.0;
+    else if (lost_since_ < 0.0) lost_since_ = now;
+    if (!have_odom_) {
+      setUnavailable("no odometry received yet");
+    } else if (lost && now - lost_since_ >= lost_error_after_) {
+      setUnavailable("lost: recovering (global localization / sensor resetting)");
+    } else if (lost) {
+      setAvailable();
+      char message[128];
+      std::snprintf(message, sizeof(message), "lost %.1f s: re-localizing from its sensors (unavailable after %.1f s)",
+                    now - lost_since_, lost_error_after_);
+      setCondition(diagnostic_msgs::DiagnosticStatus::WARN, message);
+    } else {
+      setAvailable();
+      clearCondition();
+    }
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
@@ -458,6 +482,8 @@ class LocalizationDevice : public Device {
   bool force_cloud_ = false;  // request_nomotion_update: the cloud with the next publication
   ros::NodeHandle pnh_;
   double save_pose_period_ = 0.0;
+  double lost_error_after_ = 1.0;
+  double lost_since_ = -1.0;  // [s, sim time] when the filter last became lost; -1: not lost
   double last_saved_ = -1e9;
   std::unique_ptr<LocalizationOutputs> outputs_;
 };

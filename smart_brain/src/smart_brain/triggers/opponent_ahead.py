@@ -1,4 +1,5 @@
-"""opponent_ahead: a ranger in the driving direction sees something nearer than `distance`.
+"""opponent_ahead: while the robot drives, a ranger in the driving direction sees something nearer
+than `distance`.
 
 Config (~triggers/opponent_ahead): rangers (names under /hal/rangers/ looking forwards),
 rear_rangers (used while driving backwards, from /odom), distance [m], max_age [s] of a
@@ -7,6 +8,10 @@ border_tolerance [m] (set: an echo the table border explains from the robot's po
 opponent, border_echo.py; table size from /table/length, /table/width).
 Fires -> zero wheel speed at once, the running state is preempted (its driver goal
 cancelled), the handler waits for the way to clear, then the state resumes.
+It fires only while the robot moves (/odom, faster than MOVING m/s): standing or turning in place
+beside an opponent drives into nothing, and firing then preempted every new goal at its start (a
+robot next to a parked opponent never left). The driver's avoidance still guards the route. The
+handler waits on the echoes alone (the robot it stopped is not moving).
 """
 import threading
 
@@ -17,6 +22,7 @@ from smart_brain.triggers.wait_clear import WaitClear
 from smart_brain.actions.stop import publish_zero
 
 KIND = 'opponent_ahead'
+MOVING = 0.01  # [m/s] /odom's forward speed above which the robot drives (below: standing or turning)
 
 
 class RangerWatch(object):
@@ -29,13 +35,13 @@ class RangerWatch(object):
         self._lock = threading.Lock()
         self._latest = {}     # name -> (monotonic receive time, range)
         self._backwards = False
+        self._moving = False
         self._front, self._rear = list(front), list(rear)
         self._notify = notify
         self._border = border
         self._subs = [rospy.Subscriber('/hal/rangers/' + n, Range, self._on_range, callback_args=n, queue_size=1)
                       for n in self._front + self._rear]
-        if self._rear:
-            self._subs.append(rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=1))
+        self._subs.append(rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=1))
 
     def _on_range(self, msg, name):
         near = msg.min_range <= msg.range < self.distance and msg.range <= msg.max_range
@@ -47,9 +53,17 @@ class RangerWatch(object):
             self._notify()   # poll the trigger now, not at the next supervisor tick
 
     def _on_odom(self, msg):
-        self._backwards = msg.twist.twist.linear.x < -0.01
+        v = msg.twist.twist.linear.x
+        self._moving = abs(v) > MOVING
+        if self._moving:
+            self._backwards = v < 0.0  # kept while stopped: the handler watches the way it was going
 
     def __call__(self):
+        """The trigger's condition: driving, and an echo near in the driving direction."""
+        return self._moving and self.near()
+
+    def near(self):
+        """An echo nearer than `distance` in the driving direction (the last one, when stopped)."""
         names = self._rear if self._backwards and self._rear else self._front
         now = clock.now()
         with self._lock:
@@ -77,5 +91,5 @@ def make(values):
         border = BorderEcho(rospy.get_param('/table/length'), rospy.get_param('/table/width'), border_tolerance)
     watch = RangerWatch(front, rear, distance, max_age, trig.notify, border)
     trig.condition = watch
-    trig.handler = WaitClear(watch, **handler_args)
+    trig.handler = WaitClear(watch.near, **handler_args)
     return trig
