@@ -1,4 +1,4 @@
-// libFuzzer target: the CAN-over-UDP datagram decoder (udp_can_bus.h wire format) and the error
+// libFuzzer target: the CAN-over-UDP datagram decoder (udp_can_datagram.h wire format) and the error
 // frame decoder behind it. A decoded frame must re-encode to the same datagram.
 #include <cstddef>
 #include <cstdint>
@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "hcl_drivers/transport/can_error.h"
-#include "hcl_drivers/transport/udp_can_bus.h"
+#include "hcl_drivers/transport/udp_can_datagram.h"
 
 using namespace hcl_drivers::transport;
 

@@ -98,12 +98,12 @@ class SimServicesTest(unittest.TestCase):
         for want in ('table', 'borders', 'beacons', 'opponent', 'elements', 'start_zones', 'score_zones'):
             self.assertIn(want, ns)
         self.assertEqual(sum(1 for m in markers.markers if m.ns == 'beacons'), 3)
-        # Our robot's outline (no footprint configured: 32 vertices on the radius) at its true
-        # pose, closed; the robot has not moved yet.
+        # Our robot's outline (no footprint configured: a true circle, drawn with 48 vertices on
+        # the radius) at its true pose, closed; the robot has not moved yet.
         outline = [m for m in markers.markers if m.ns == 'footprint']
         self.assertEqual(len(outline), 1)
         pts = outline[0].points
-        self.assertEqual(len(pts), 33)
+        self.assertEqual(len(pts), 49)
         self.assertEqual((pts[0].x, pts[0].y), (pts[-1].x, pts[-1].y))
         truth = self.truth.wait().pose.pose.position
         radius = rospy.get_param('/sim/world/robot/radius')

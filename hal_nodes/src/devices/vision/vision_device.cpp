@@ -90,8 +90,9 @@ class VisionDevice : public Device {
       // The pose at the image's stamp. The chain's newest link (the odometry) may not have reached
       // that stamp yet: the image then waits for a later refresh, as long as it is fresh, instead
       // of blocking this thread or failing on a few milliseconds of lag.
+      // A chain of static transforms alone has no newest stamp (0): it holds at every stamp.
       const ros::Time newest = tf_buffer_.lookupTransform(map_frame_, cam, ros::Time(0)).header.stamp;
-      if (newest < img->header.stamp) {
+      if (!newest.isZero() && newest < img->header.stamp) {
         ++waits_for_tf_;
         if ((img->header.stamp - newest).toSec() <= max_input_age_) return;
         return setUnavailable("no transform " + map_frame_ + " -> " + cam + " at the image's stamp: the newest is " +

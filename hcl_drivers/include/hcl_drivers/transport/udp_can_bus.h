@@ -12,14 +12,7 @@
 //   * within one process, frames are delivered locally to every other channel (not to the
 //     sender), like SocketCAN's local loopback.
 //
-// Wire format: one CAN frame per datagram, 17 bytes, little endian:
-//   0  'C'  1  'N'        magic
-//   2  kind               1 = frame, 2 = HELLO (keepalive; bytes 3..16 zero)
-//   3  flags              bit0 RTR, bit1 extended id, bit2 error frame (linux/can/error.h layout)
-//   4  id  (u32 LE)       11-bit, 29-bit or error class bits
-//   8  dlc                0..8
-//   9  data[8]            unused bytes zero
-// Anything else (wrong size, magic, kind, dlc > 8, id too wide) is counted as malformed and dropped.
+// Wire format: udp_can_datagram.h.
 #pragma once
 
 #include <netinet/in.h>
@@ -33,19 +26,10 @@
 #include <thread>
 
 #include "hcl_drivers/transport/can_bus.h"
+#include "hcl_drivers/transport/udp_can_datagram.h"
 
 namespace hcl_drivers {
 namespace transport {
-
-namespace udp_can {
-constexpr std::size_t kDatagramSize = 17;
-constexpr uint8_t kKindFrame = 1;
-constexpr uint8_t kKindHello = 2;
-std::array<uint8_t, kDatagramSize> encode(const CanFrame& f);
-std::array<uint8_t, kDatagramSize> encodeHello();
-// kind in `kind`; the frame when kind == frame. Empty when malformed.
-std::optional<CanFrame> decode(const uint8_t* data, std::size_t size, uint8_t* kind = nullptr);
-}  // namespace udp_can
 
 class UdpCanBus : public CanBus, public std::enable_shared_from_this<UdpCanBus> {
  public:
