@@ -9,7 +9,7 @@ import tempfile
 import time
 import unittest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))  # the checkout, not the src/ symlink
 CHECK = os.path.join(ROOT, 'robot_description', 'scripts', 'check_config')
 # The check answers in about 2 s here; the bound keeps a loaded CI machine from failing it while
 # still telling a check from a launch that waits two minutes for a robot to become ready.

@@ -9,7 +9,7 @@ import unittest
 
 import yaml
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))  # the checkout, not the src/ symlink
 NEW_ROBOT = os.path.join(ROOT, 'scripts', 'new_robot.py')
 RUN_MATCH = os.path.join(ROOT, 'scripts', 'run_match.py')
 
