@@ -36,6 +36,8 @@
 #                               doctor ROBOT): one table, exit 1 on any FAIL; SIM=1 starts the
 #                               simulator's emulators alone and checks them
 #   make test                   install, build, run every unit test and rostest
+#   make check                  build, then the quick tier: catkin_lint, gtests, nosetests and
+#                               fuzz targets, no simulation (a few minutes after the build)
 #   make bench                  install, build, print the benchmarks' figures
 #   make report [BAG=x.bag]     match report PNG of a recorded bag
 #   make calibrate BAG=x.bag [ROBOT=..] [OUT=config]  fit the robot's geometry and the simulator's
@@ -201,6 +203,11 @@ test: deps
 	@bash $(ROOT)/scripts/can_vm_prepare.sh --background
 	$(MAKE) build
 	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_tests.sh
+
+# The quick tier of `make test`: what needs no simulation and no ROS master.
+.PHONY: check
+check: build
+	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_tests.sh --quick
 
 bench: build
 	$(SETUP) && cd $(ROOT) && bash $(ROOT)/scripts/run_bench.sh

@@ -33,7 +33,7 @@ def join(bag):
         inputs.append(p)
     merged = bag + '.joined'
     count = 0
-    with rosbag.Bag(merged, 'w') as out:
+    with rosbag.Bag(merged, 'w', compression=rosbag.Compression.LZ4) as out:  # as the recorder writes
         readers = [rosbag.Bag(p, allow_unindexed=False) for p in inputs]
         import heapq
         streams = [r.read_messages(raw=True, return_connection_header=True) for r in readers]

@@ -113,12 +113,17 @@ class Match(object):
         self.topics = {t: (i.msg_type, i.message_count) for t, i in info.items()}
         self.start = self.bag.get_start_time() if self.topics else 0.0
         self.end = self.bag.get_end_time() if self.topics else 0.0
+        self.asked = set()  # every topic a reader looked for: what a recorder must keep
 
     def has(self, topic):
+        self.asked.add(topic)
         return topic in self.topics
 
     def find(self, prefix, word=''):
-        return sorted(t for t in self.topics if t.startswith(prefix) and word in t)
+        found = sorted(t for t in self.topics if t.startswith(prefix) and word in t)
+        if not found:
+            self.asked.add('%s*%s' % (prefix, word))  # a pattern that matched nothing
+        return found
 
     def read(self, topic):
         if not self.has(topic):

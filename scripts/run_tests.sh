@@ -1,22 +1,41 @@
 #!/usr/bin/env bash
-# Runs every test (gtest, nosetests, rostest) and prints one summary. Called by `make test`
-# with the workspace sourced. Exits non-zero on any failure or error.
+# Runs the tests and prints one summary. Exits non-zero on any failure or error. Called with the
+# workspace sourced:
+#   run_tests.sh          every test (gtest, nosetests, fuzz, rostest, the SocketCAN VM, the
+#                         recipes of docs/adding.md): `make test`
+#   run_tests.sh --quick  the tier without a simulation or a ROS master: catkin_lint, gtests,
+#                         nosetests and fuzz targets (minutes after the build): `make check`
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
 rm -rf build/test_results
 echo "== catkin_lint"
 lint_out=$(catkin_lint -W1 src 2>&1); lint_rc=$?
 echo "$lint_out" | tail -n 20
 lint_problems=$(echo "$lint_out" | grep -cE 'error:|warning:|cannot lint' || true)  # a package it could not read is a problem too
 
-echo "== unit tests and rostests"
 # Test binaries build in parallel; the tests themselves run one at a time, so rate and
 # latency checks never compete with each other for the two cores.
 catkin_make -j2 -DCATKIN_ENABLE_TESTING=ON tests 2>&1 | grep -E 'error|warning' | head -n 50
-catkin_make run_tests -j1 -DCATKIN_ENABLE_TESTING=ON 2>&1 | grep -vE '^(-- |\[ *[0-9]+%\]|Scanning|Consolidate|Built target|make\[[0-9]\]: (Entering|Leaving))' | tail -n 600
-echo "== the recipes of docs/adding.md: a board and a device added as a user does (scripts/check_recipe.sh)"
-bash "$root/scripts/check_recipe.sh" build/test_results/recipe/recipe_check.xml 2>&1 | grep '^recipe:'
+quiet_make='^(-- |\[ *[0-9]+%\]|Scanning|Consolidate|Built target|make\[[0-9]\]: (Entering|Leaving))'
+if [ "$quick" = 1 ]; then
+  echo "== gtests, nosetests and fuzz targets (no simulation, no master)"
+  # Every package's run_tests_<pkg>_{gtest,nosetests,fuzz}_<name> target, minus the nosetests
+  # that play a simulated match.
+  needs_simulation='nosetests_unit.test_new_robot.py'
+  targets=$(make -C build help 2>/dev/null | grep -oE 'run_tests_[A-Za-z0-9_]+_(gtest|nosetests|fuzz)_[^ ]+' |
+            grep -vF "$needs_simulation" | sort -u)
+  for t in $targets; do
+    make -C build -j1 "$t" 2>&1 | grep -vE "$quiet_make" | tail -n 40
+  done
+else
+  echo "== unit tests and rostests"
+  catkin_make run_tests -j1 -DCATKIN_ENABLE_TESTING=ON 2>&1 | grep -vE "$quiet_make" | tail -n 600
+  echo "== the recipes of docs/adding.md: a board and a device added as a user does (scripts/check_recipe.sh)"
+  bash "$root/scripts/check_recipe.sh" build/test_results/recipe/recipe_check.xml 2>&1 | grep '^recipe:'
+fi
 echo "== results"
 catkin_test_results --verbose build/test_results > build/test_summary.txt 2>&1; results_rc=$?
 grep -vE '^\s*$' build/test_summary.txt | tail -n 60

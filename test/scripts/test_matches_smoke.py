@@ -5,7 +5,8 @@ workers, so both matches run at once, each on its own ROS master and ports. The 
 both matches ended (run_match.py said so and kept a bag and a report in each match folder), the
 summary says 2 workers and no retry, the summary PNG is written, the results against each opponent
 and in all (`wins W losses L draws D`) come before the closing line, which parses with 2 matches
-and 0 violations."""
+and 0 violations. And the recorder kept what is read afterwards: every topic the match report,
+the runner's row and the chaos invariants look for is in each match's (LZ4-compressed) bag."""
 import math
 import os
 import re
@@ -86,6 +87,40 @@ class MatchesSmokeTest(unittest.TestCase):
         for kind in ('random_walk', 'route'):
             self.assertTrue(any(re.match(r'^opponent %s: wins \d+ losses \d+ draws \d+ win_rate \S+$' % kind, l)
                                 for l in lines), 'no results line for %s' % kind)
+
+    def test_bags_hold_every_topic_the_readers_look_for(self):
+        sys.path.insert(0, os.path.join(ROOT, 'scripts'))
+        import match_report
+        import run_chaos
+        import run_matches
+        import rosbag
+        config = run_matches.robot_config(ROBOT)
+        asked = set()
+        opened = match_report.Match.__init__
+
+        def opened_and_watched(match, *args, **kwargs):  # every Match shares one record of what was asked
+            opened(match, *args, **kwargs)
+            match.asked = asked
+        match_report.Match.__init__ = opened_and_watched
+        try:
+            for seed in range(SEED, SEED + N):
+                folder = os.path.join(self.out, '%s_seed%d' % (ROBOT, seed))
+                bag = os.path.join(folder, ROBOT + '_match.bag')
+                asked.clear()
+                run_matches.analyse(seed, 'random_walk', folder, ROBOT, config, 0, 0.0)
+                run_chaos.judge(folder, ROBOT, config, 0)
+                match_report.report(bag, os.path.join(self.out, 'asked.png'))
+                with rosbag.Bag(bag) as b:
+                    recorded = set(b.get_type_and_topic_info().topics)
+                    compressed = {c.compression for c in b._chunk_headers.values()}
+                # A pattern (`prefix*word`) may match nothing: a match that sent no rotate_by goal.
+                missing = sorted(t for t in asked - recorded if '*' not in t)
+                self.assertEqual(missing, [], 'seed %d: read but not recorded' % seed)
+                self.assertIn('/mcl/pose', asked)
+                self.assertIn('/diagnostics', asked)
+                self.assertEqual(compressed, {'lz4'}, 'seed %d' % seed)
+        finally:
+            match_report.Match.__init__ = opened
 
     def test_one_row_per_match(self):
         rows = [l for l in self.output.splitlines() if re.match(r'^\s*\d+ (random_walk|route|blocker) ', l)]
