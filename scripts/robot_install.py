@@ -123,7 +123,20 @@ def plan(robot, config):
             if not USB_ID_RE.match(str(spec[field])):
                 raise ConfigError('%s/%s: %r is not a 4-digit hex USB id' % (where, field, spec[field]))
         devices[board] = dict(spec, path=path, link=path[len('/dev/'):], key=key)
-    return {'can': can, 'devices': devices, 'network': network_plan(src, computer.get('network'))}
+    return {'can': can, 'devices': devices, 'network': network_plan(src, computer.get('network')),
+            'rtprio': realtime_priority(src, config)}
+
+
+def realtime_priority(src, config):
+    """The highest SCHED_FIFO priority the robot's processes ask for (hcl/ and hal/
+    realtime_priority; 0: none): the service's LimitRTPRIO."""
+    highest = 0
+    for layer in ('hcl', 'hal'):
+        value = (config.get(layer) or {}).get('realtime_priority', 0)
+        if not isinstance(value, int) or isinstance(value, bool) or not 0 <= value <= 99:
+            raise ConfigError('%s: %s/realtime_priority: %r is not a priority 0..99' % (src, layer, value))
+        highest = max(highest, value)
+    return highest
 
 
 def ipv4_network(text):
@@ -368,9 +381,10 @@ def firewall(robot, network, port_range):
         firewall_unit(robot)
 
 
-def robot_service(robot, can, repo=REPO, network=None):
+def robot_service(robot, can, repo=REPO, network=None, rtprio=0):
     """robot-ROBOT.service: the robot's launch on the real robot, at boot, restarted on failure;
-    its master and nodes on the robot's address, after its firewall."""
+    its master and nodes on the robot's address, after its firewall; allowed the real-time
+    priority its loops ask for and to lock their memory (robot_core/realtime.h)."""
     network = network or DEFAULT_NETWORK
     home = state_dir(robot)
     cans = ' '.join(can_unit_name(i) for i in sorted(can))
@@ -397,6 +411,10 @@ def robot_service(robot, can, repo=REPO, network=None):
         'Environment=ROS_IP=%s ROS_MASTER_URI=http://%s:%d' % (network['address'], network['address'],
                                                               network['master_port']),
         'UnsetEnvironment=ROS_HOSTNAME',
+        '# The bus and device loops in SCHED_FIFO (hcl/ and hal/realtime_priority) with their memory',
+        '# locked: the right to both, also under a User= without root',
+        'LimitRTPRIO=%d' % rtprio,
+        'LimitMEMLOCK=infinity',
         'WorkingDirectory=%s' % home,
         'ExecStart=/bin/bash -c %s' % systemd_escape(shlex.quote(script)),
         'Restart=on-failure',
@@ -432,7 +450,7 @@ def items(robot, config, repo=REPO, port_range=None):
         out += can_unit(robot, iface, bitrate)
     out += udev_rules(robot, p['devices'])
     out += firewall(robot, p['network'], port_range)
-    out += robot_service(robot, p['can'], repo, p['network'])
+    out += robot_service(robot, p['can'], repo, p['network'], p['rtprio'])
     return p, out
 
 

@@ -1,6 +1,7 @@
 #include "hal_nodes/device_nodelet.h"
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
+#include <robot_core/realtime.h>
 
 #include <chrono>
 #include <cmath>
@@ -150,6 +151,14 @@ void DeviceNodeletBase::onGathered(const ros::TimerEvent&) {
 void DeviceNodeletBase::onTimer(const ros::TimerEvent&) { refreshIfDue(true); }
 
 void DeviceNodeletBase::refreshIfDue(bool tick) {
+  // A worker thread that refreshes a device runs in real time from then on (the HAL's
+  // ~realtime_priority, robot_core/realtime.h): the inputs and timers it serves are the device
+  // loops. Refused, the process WARNs once and its loops run at normal priority.
+  thread_local bool realtime_entered = false;
+  if (!realtime_entered) {
+    realtime_entered = true;
+    robot_core::enterRealtime("a device loop");
+  }
   const double now = ros::Time::now().toSec();  // the rate meter, like the pacer, counts ROS time
   {
     std::lock_guard<std::mutex> lk(pace_mutex_);

@@ -110,6 +110,10 @@ class InstallTest(unittest.TestCase):
         self.assertIn('ROS_HOME=/var/lib/robot/%s/' % robot, env)
         self.assertIn('ROS_LOG_DIR=/var/lib/robot/%s/' % robot, env)
         self.assertEqual(values(u, 'Service', 'StandardOutput'), ['journal'])
+        # The right to the real-time priorities the config asks for, and to lock memory.
+        priorities = [(cfg.get(layer) or {}).get('realtime_priority', 0) for layer in ('hcl', 'hal')]
+        self.assertEqual(values(u, 'Service', 'LimitRTPRIO'), [str(max(priorities))])
+        self.assertEqual(values(u, 'Service', 'LimitMEMLOCK'), ['infinity'])
         after = ' '.join(values(u, 'Unit', 'After')).split()
         self.assertIn('network-online.target', after)
         for iface in can:
@@ -298,6 +302,11 @@ class ConfigErrorTest(unittest.TestCase):
         cfg = copy.deepcopy(config('eurobot2009'))
         cfg['computer']['can']['can0']['bitrate'] = '1M'
         self.refused(cfg, "computer/can/can0/bitrate: '1M' is not a bitrate")
+
+    def test_realtime_priority_out_of_range(self):
+        cfg = copy.deepcopy(config('eurobot2009'))
+        cfg['hal']['realtime_priority'] = 120
+        self.refused(cfg, 'hal/realtime_priority: 120 is not a priority 0..99')
 
     def test_device_of_no_board(self):
         cfg = copy.deepcopy(config('logion'))
