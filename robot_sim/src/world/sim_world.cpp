@@ -50,59 +50,59 @@ void SimWorld::noteUnknown(const char* kind, const std::string& name) const {
 }
 
 std::vector<std::string> SimWorld::unknownNames() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return std::vector<std::string>(unknown_list_.begin(), unknown_list_.end());
 }
 
 int SimWorld::unknownNameCount() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return unknown_names_;
 }
 
 // ---------------------------------------------------------------- World: actuators
 double SimWorld::time() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return time_;
 }
 
 void SimWorld::setMotorCommand(const std::string& motor, double fraction) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   if (!robot_.setMotorCommand(motor, fraction)) noteUnknown("motor", motor);
 }
 
 double SimWorld::motorCurrent(const std::string& motor) const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   const MotorState* m = robot_.motor(motor);
   if (!m) noteUnknown("motor", motor);
   return m ? m->current : 0.0;
 }
 
 void SimWorld::setServoTarget(const std::string& servo, double position) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   if (ServoState* s = find(servos_, servo, "servo"))
     if (std::isfinite(position)) s->target = position;
 }
 
 double SimWorld::servoPosition(const std::string& servo) const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   auto* s = find(const_cast<std::map<std::string, ServoState>&>(servos_), servo, "servo");
   return s ? s->position : 0.0;
 }
 
 void SimWorld::setStepperTarget(const std::string& stepper, int64_t steps) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   if (StepperState* s = find(steppers_, stepper, "stepper")) s->target = steps;
 }
 
 int64_t SimWorld::stepperPosition(const std::string& stepper) const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   auto* s = find(const_cast<std::map<std::string, StepperState>&>(steppers_), stepper, "stepper");
   return s ? s->position : 0;
 }
 
 // ---------------------------------------------------------------- World: sensors
 int64_t SimWorld::encoderTicks(const std::string& encoder) const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   if (!robot_.hasEncoder(encoder)) {
     noteUnknown("encoder", encoder);
     return 0;
@@ -111,7 +111,7 @@ int64_t SimWorld::encoderTicks(const std::string& encoder) const {
 }
 
 double SimWorld::measureRange(const std::string& ranger) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   auto it = config_.robot.rangers.find(ranger);
   if (it == config_.robot.rangers.end()) {
     noteUnknown("ranger", ranger);
@@ -122,19 +122,19 @@ double SimWorld::measureRange(const std::string& ranger) {
 }
 
 double SimWorld::trueRange(const std::string& ranger) const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   auto it = config_.robot.rangers.find(ranger);
   if (it == config_.robot.rangers.end()) return std::numeric_limits<double>::infinity();
   return robot_sim::trueRange(it->second, robot_.pose(), table_, rangerObstacles(it->second.sees_elements));
 }
 
 double SimWorld::measureCompassDeg() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return noisyCompassDeg(config_.compass, robot_.pose().theta, compass_rng_);
 }
 
 bool SimWorld::switchClosed(const std::string& name) const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   auto it = config_.robot.switches.find(name);
   if (it == config_.robot.switches.end()) {
     noteUnknown("switch", name);
@@ -158,19 +158,19 @@ bool SimWorld::switchClosed(const std::string& name) const {
 }
 
 double SimWorld::batteryVoltage() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   double current = 0.0;
   for (const auto& kv : config_.robot.motors) current += std::abs(robot_.motor(kv.first)->current);
   return robot_sim::batteryVoltage(config_.battery, time_, current, battery_rng_);
 }
 
 std::vector<BeaconMeasurement> SimWorld::takeBeaconMeasurements() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return beacons_.take();
 }
 
 WorldSnapshot SimWorld::snapshot() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   WorldSnapshot s;
   s.time = time_;
   s.robot = robot_.pose();
@@ -213,7 +213,7 @@ Obstacles SimWorld::obstacles() const {
 }
 
 void SimWorld::step() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   const double dt = config_.dt;
   ++steps_;
   time_ = static_cast<double>(steps_) * dt;  // no drift from summing dt
@@ -247,7 +247,7 @@ void SimWorld::stepMatch() {
 }
 
 bool SimWorld::startMatch() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   if (game_.started()) return false;
   bool& cord_closed = manual_switches_.at(config_.match.start_switch);
   if (!cord_closed) return false;  // pulled already: the match starts at this step
@@ -257,7 +257,7 @@ bool SimWorld::startMatch() {
 
 // ---------------------------------------------------------------- controls and truth
 void SimWorld::scheduleMotorCommand(double at, const std::string& motor, double fraction) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   if (!robot_.hasMotor(motor)) {
     noteUnknown("motor", motor);
     return;
@@ -270,17 +270,17 @@ void SimWorld::scheduleMotorCommand(double at, const std::string& motor, double 
 }
 
 void SimWorld::teleport(const Pose2D& pose) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   robot_.teleport(pose);
 }
 
 void SimWorld::placeOpponent(const Pose2D& pose, bool hold) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   opponent_.place(pose, hold);
 }
 
 bool SimWorld::setSwitch(const std::string& name, bool closed) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   auto it = manual_switches_.find(name);
   if (it == manual_switches_.end()) return false;
   it->second = closed;
@@ -291,38 +291,38 @@ bool SimWorld::isWorldFault(const std::string& kind) { return robot_sim::isWorld
 
 bool SimWorld::applyFault(const std::string& kind, const std::string& target, bool active, double magnitude,
                           std::string* why) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return applyWorldFault(kind, target, active, magnitude,
                          WorldFaultTargets{beacons_, robot_, opponent_, config_.opponent.enabled, config_.table}, why);
 }
 
 BodyTruth SimWorld::robotTruth() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return BodyTruth{robot_.pose(), robot_.v(), robot_.w()};
 }
 
 BodyTruth SimWorld::opponentTruth() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return BodyTruth{opponent_.pose(), opponent_.v(), opponent_.w()};
 }
 
 MatchProgress SimWorld::match() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return game_.progress(time_);
 }
 
 std::size_t SimWorld::scoreEventCount() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return game_.events().size();
 }
 
 std::vector<RefereeEvent> SimWorld::scoreEvents() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return game_.events();
 }
 
 std::vector<GameElement> SimWorld::elements() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<Mutex> lock(mutex_);
   return game_.elements();
 }
 

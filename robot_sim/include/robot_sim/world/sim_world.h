@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "robot_sim/world/actuators.h"
 #include "robot_sim/world/beacon_model.h"
 #include "robot_sim/world/config.h"
@@ -103,7 +105,10 @@ class SimWorld : public World {
 
   const WorldConfig config_;
   const unsigned seed_;
-  mutable std::mutex mutex_;
+  // Read by the boards' emulators in real-time threads while the stepping thread updates it:
+  // the stepping thread gets their priority while it holds the world.
+  using Mutex = robot_core::PriorityInheritanceMutex;
+  mutable Mutex mutex_;
   TableGeometry table_;
   double time_ = 0.0;
   long steps_ = 0;
