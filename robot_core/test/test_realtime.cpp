@@ -9,8 +9,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <mutex>
+#include <sstream>
 #include <string>
+#include <thread>
 
+#include "robot_core/priority_inheritance_mutex.h"
 #include "robot_core/realtime.h"
 
 namespace {
@@ -113,4 +120,59 @@ TEST(Realtime, OutOfRangePriorityIsRefusedWithItsReason) {
   EXPECT_FALSE(robot_core::makeThreadRealtime(0, &why));
   EXPECT_NE(why.find("1..99"), std::string::npos) << why;
   EXPECT_FALSE(robot_core::makeThreadRealtime(100, &why));
+}
+
+namespace {
+
+// The calling thread's scheduling priority as the kernel uses it (the 18th field of
+// /proc/thread-self/stat): 20 for a normal thread at nice 0, -1 - p for SCHED_FIFO p, and so
+// the priority a holder of a priority-inheritance mutex was lent.
+int kernelPriority() {
+  std::ifstream f("/proc/thread-self/stat");
+  std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::istringstream rest(stat.substr(stat.rfind(')') + 2));  // after "pid (comm) "
+  std::string field;
+  for (int i = 3; i <= 18 && rest >> field; ++i) {
+  }
+  return std::stoi(field);
+}
+
+}  // namespace
+
+TEST(PriorityInheritanceMutex, LocksLikeAMutex) {
+  robot_core::PriorityInheritanceMutex m;
+  {
+    std::lock_guard<robot_core::PriorityInheritanceMutex> lk(m);
+    std::atomic<bool> got{true};
+    std::thread other([&] { got = m.try_lock(); });
+    other.join();
+    EXPECT_FALSE(got) << "try_lock succeeded on a held mutex";
+  }
+  EXPECT_TRUE(m.try_lock());
+  m.unlock();
+}
+
+TEST(PriorityInheritanceMutex, HolderRunsAtTheWaitersPriority) {
+  if (!mayHaveRealtime()) GTEST_SKIP() << "this process may not use SCHED_FIFO (not root, no rtprio)";
+  robot_core::PriorityInheritanceMutex m;
+  m.lock();  // held by this normal thread
+  const int before = kernelPriority();
+  std::atomic<bool> waiting{false}, done{false};
+  std::thread waiter([&] {
+    std::string why;
+    if (!robot_core::makeThreadRealtime(10, &why)) return;
+    waiting = true;
+    m.lock();
+    m.unlock();
+    done = true;
+  });
+  while (!waiting) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the waiter is blocked on the mutex
+  const int lent = kernelPriority();
+  m.unlock();
+  waiter.join();
+  EXPECT_TRUE(done);
+  EXPECT_EQ(before, 20) << "a normal thread at nice 0";
+  EXPECT_EQ(lent, -11) << "the holder did not get the SCHED_FIFO 10 waiter's priority";
+  EXPECT_EQ(kernelPriority(), before) << "the lent priority outlived the lock";
 }

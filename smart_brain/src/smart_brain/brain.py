@@ -43,6 +43,7 @@ import threading
 import time
 
 import rospy
+from robot_core import sim_time_sleep
 from std_srvs.srv import Trigger, TriggerResponse
 
 from smart_brain import strategy as strategies
@@ -458,6 +459,7 @@ class Brain(object):
 
 
 def main():
+    sim_time_sleep.install()  # its rospy timers and rate wake at their deadline, not at every /clock
     rospy.init_node('brain')
     if rospy.get_param('/use_sim_time', False):
         clock.use_ros_time()  # every timeout, hold-off and the match timer on /clock
