@@ -123,6 +123,8 @@ DEPS += tf-tools python3-tf libmove-base-msgs-dev python3-move-base-msgs
 DEPS += python3-distributed python3-optuna python3-sklearn
 # libFuzzer (clang) for the beacon parser fuzz test
 DEPS += clang libclang-rt-14-dev
+# the benches on a loaded computer (scripts/bench/loaded_match.sh, latency.sh --stress)
+DEPS += stress-ng
 # The real SocketCAN test needs a VM on a kernel without AF_CAN: `make test` installs
 # its kernel, qemu and virtme-ng in the background while it builds (scripts/can_vm_prepare.sh,
 # nothing where vcan0 works or with CAN_VM_TEST=0); `make deps` does not.

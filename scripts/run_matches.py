@@ -276,6 +276,24 @@ def node_deaths(launch_log):
     return died
 
 
+def match_span(launch_log):
+    """((wall, simulated) at the brain's match start, the same at its match end) from the launch
+    log's "brain: match started" and "brain: MATCH END" lines (rospy stamps both clocks); None
+    for a line that is not there."""
+    begin = finish = None
+    if os.path.exists(launch_log):
+        with open(launch_log, errors='replace') as f:
+            for line in f:
+                m = re.search(r'\[(\d+\.\d+), (\d+\.\d+)\]: brain: (match started|MATCH END)', line)
+                if m:
+                    stamp = (float(m.group(1)), float(m.group(2)))
+                    if m.group(3) == 'match started':
+                        begin = stamp
+                    else:
+                        finish = stamp
+    return begin, finish
+
+
 def effectors_off_delay(m, end):
     """[s] from the match end to the latched /effectors/deactivated last going true, judged
     EFFECTORS_GRACE after the end; None when they were not off by then."""

@@ -15,19 +15,11 @@ start=$(date +%s.%N)
 python3 "$root/scripts/run_match.py" eurobot2009 --real-time-factor 0 --out "$tmp/f0" > "$tmp/f0.log" 2>&1 || true
 end=$(date +%s.%N)
 grep -E "referee|never|ended" "$tmp/f0.log" | sed 's/^/  /' || true
-python3 - "$tmp/f0/eurobot2009_launch.log" "$start" "$end" <<'PY'
-import re, sys
+PYTHONPATH="$root/scripts:${PYTHONPATH:-}" python3 - "$tmp/f0/eurobot2009_launch.log" "$start" "$end" <<'PY'
+import sys
+from run_matches import match_span
 log, start, end = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
-# The brain's match start and end lines carry [wall, simulated] stamps.
-begin = finish = None
-for line in open(log, errors='replace'):
-    m = re.search(r'\[(\d+\.\d+), (\d+\.\d+)\]: brain: (match started|MATCH END)', line)
-    if m:
-        stamp = (float(m.group(1)), float(m.group(2)))
-        if m.group(3) == 'match started':
-            begin = stamp
-        else:
-            finish = stamp
+begin, finish = match_span(log)  # the brain's match start and end, [wall, simulated]
 if begin and finish:
     wall, sim = finish[0] - begin[0], finish[1] - begin[1]
     print('match_wall_s %.1f (start cord to match end, %.1f s simulated)' % (wall, sim))
