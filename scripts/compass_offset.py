@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import rosbag
-from robot_core.geometry import yaw_of
+from robot_core.geometry import wrap_angle, yaw_of
 
 
 def main():
@@ -40,7 +40,7 @@ def main():
         if t < tt[0] or t > tt[-1] or np.interp(t, tt, tw) > a.max_turn_rate:
             continue
         r = np.interp(t, tt, ty)
-        d.append(math.atan2(math.sin(h - r), math.cos(h - r)))
+        d.append(wrap_angle(h - r))
     if not d:
         raise SystemExit('no compass reading while not turning')
     d = np.degrees(np.array(d))

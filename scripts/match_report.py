@@ -32,7 +32,7 @@ import matplotlib
 matplotlib.use('Agg')  # headless: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 import rosbag  # noqa: E402
-from robot_core.geometry import yaw_of  # noqa: E402
+from robot_core.geometry import wrap_angle, yaw_of  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from idle_time import IDLE_LIMIT, idle_stretches, too_long  # noqa: E402
@@ -434,8 +434,8 @@ def errors_against_truth(estimate, truth):
         (t0, x0, y0, a0), (t1, x1, y1, a1) = truth[j], truth[j + 1]
         f = 0.0 if t1 <= t0 else (t - t0) / (t1 - t0)
         tx, ty = x0 + f * (x1 - x0), y0 + f * (y1 - y0)
-        ta = a0 + f * math.atan2(math.sin(a1 - a0), math.cos(a1 - a0))
-        out.append((t, math.hypot(x - tx, y - ty), abs(math.atan2(math.sin(a - ta), math.cos(a - ta)))))
+        ta = a0 + f * wrap_angle(a1 - a0)
+        out.append((t, math.hypot(x - tx, y - ty), abs(wrap_angle(a - ta))))
     return out
 
 

@@ -10,6 +10,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // the framework reads ~parameters as boards do
+
 using diagnostic_msgs::DiagnosticStatus;
 
 BoardNodeletBase::~BoardNodeletBase() {

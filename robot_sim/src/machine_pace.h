@@ -10,11 +10,9 @@
 // proportional step undershoots rather than overshoots.
 //
 // A busy share under the band does not prove the robot keeps up: a loop that waits on round
-// trips (the 2009 robot's shared CAN loop: five boards, 230 request/answer exchanges per
-// simulated second, each through the emulated bus) falls behind with the CPU half idle (the
-// HCL and HAL alone: 450 requests per simulated second at 1x, 290 at 14x). So the pace also
-// watches the robot's work rate,
-// the driver requests the emulators answered per simulated second (RobotKeepingUp): the factor
+// trips (a shared CAN loop polling several boards, each request/answer exchange through the
+// emulated bus) falls behind with the CPU half idle. So the pace also watches the robot's work
+// rate, the driver requests the emulators answered per simulated second (RobotKeepingUp): the factor
 // rises only while that rate holds (95 % of the best recent rate), and comes down by 15 % a
 // second while it is under 90 %, but not below real time on that account: at factor 1 the
 // robot runs as on the table, whatever its boards do (a board silenced by a fault polls less).

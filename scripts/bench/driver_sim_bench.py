@@ -19,6 +19,7 @@ from geometry_msgs.msg import Twist
 from hal_nodes.msg import GotoAction, GotoGoal, LocalizationQuality
 from hcl_drivers.msg import MotorCommand
 from nav_msgs.msg import Odometry
+from robot_core.geometry import wrap_angle
 
 from test_support import Recorder, yaw_of  # test/scripts (driver.sh puts it on PYTHONPATH)
 
@@ -30,10 +31,6 @@ GOALS = [(2.60, 1.70, 0.00), (0.40, 1.70, math.pi), (0.40, 0.40, -math.pi / 2), 
 DEG = math.pi / 180.0
 STOPPED_SPEED = 0.005    # [m/s] truth linear speed below which the wheels count as stopped
 STOPPED_TURN = 0.05      # [rad/s] and the turn rate
-
-
-def angle_diff(a, b):
-    return math.atan2(math.sin(a - b), math.cos(a - b))
 
 
 def percentile(values, p):
@@ -89,7 +86,7 @@ class Bench(object):
                 failed.append('%d (%s)' % (i + 1, result.message if result else 'no result'))
             times.append(took)
             pos.append(math.hypot(x - gx, y - gy))
-            ang.append(abs(angle_diff(th, ga)))
+            ang.append(abs(wrap_angle(th - ga)))
             over.append(o)
         print('20 goto goals (2009 robot, simulator seed %s, empty table): %d succeeded%s'
               % (rospy.get_param('/sim/seed', '?'), len(GOALS) - len(failed),

@@ -9,7 +9,6 @@
 Both launches run against this test's master, one after the other."""
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -22,23 +21,10 @@ import rospy
 import rostest
 from hal_nodes.msg import ExampleReading
 
+from test_support import roslaunch, stop  # beside this script
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 RECORD_SECONDS = 8.0
-
-
-def roslaunch(*args, log):
-    return subprocess.Popen(['roslaunch', '--wait'] + list(args), stdout=log, stderr=subprocess.STDOUT,
-                            start_new_session=True)
-
-
-def stop(proc, timeout=20.0):
-    if proc.poll() is None:
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
 
 
 class RecordReplayTest(unittest.TestCase):

@@ -14,7 +14,6 @@ import math
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -29,23 +28,10 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 from robot_sim.srv import SetSwitch
 
+from test_support import roslaunch, stop  # beside this script
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 MATCH_SECONDS = 10.0
-
-
-def roslaunch(*args, log):
-    return subprocess.Popen(['roslaunch', '--wait'] + list(args), stdout=log, stderr=subprocess.STDOUT,
-                            start_new_session=True)
-
-
-def stop(proc, timeout=30.0):
-    if proc.poll() is None:
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
 
 
 def xy(msg):

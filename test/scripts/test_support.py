@@ -1,10 +1,13 @@
 """Shared helpers of the Python rostests: bounded waits, topic recorders (every message, or the
 newest one), percentiles, device diagnostics, and the effector switch with its service
 connections opened in advance (so a measured deactivation latency starts when the request is
-sent, not at the master lookup of the service), and real time for a test's wall-clock case in a
-simulation run as fast as the machine goes."""
+sent, not at the master lookup of the service), real time for a test's wall-clock case in a
+simulation run as fast as the machine goes, and a launch file started and stopped as a user does."""
 import contextlib
 import math
+import os
+import signal
+import subprocess
 import threading
 import time
 
@@ -202,3 +205,21 @@ def real_time(simulator='/sim'):
         yield
     finally:
         set_factor(launched)
+
+
+def roslaunch(*args, log):
+    """`roslaunch --wait ARGS` in a session of its own (stop() signals the whole group), its
+    output into the open file `log`."""
+    return subprocess.Popen(['roslaunch', '--wait'] + list(args), stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True)
+
+
+def stop(proc, timeout=30.0):
+    """Ctrl-C to a roslaunch() as a user stops it; SIGKILL to what is left after `timeout` [s]."""
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()

@@ -1,4 +1,4 @@
-// The Device: what every HAL device implements (the original design's init/refresh/halt).
+// The Device: what every HAL device implements (init, refresh, halt).
 // A device turns raw board values into physical meaning and offers a hardware-independent
 // interface to the brain. The framework (DeviceNodelet) calls:
 //   init(ctx)   once: read ~parameters (throw robot_core::ParameterError), declare inputs with
@@ -28,9 +28,6 @@
 #include "hal_nodes/latest_value.h"
 
 namespace hal_nodes {
-
-// Devices read their ~parameters with robot_core's strict reader (robot_core/parameters.h).
-using namespace robot_core::parameter_reader;
 
 struct DeviceContext {
   ros::NodeHandle nh;   // the HAL process namespace (global topics)

@@ -32,10 +32,6 @@ bool AvoidanceConfig::parseMode(const std::string& s, Mode* mode) {
   return true;
 }
 
-const char* AvoidanceConfig::modeName(Mode m) {
-  return m == Mode::OFF ? "off" : m == Mode::STOP ? "stop" : "detour";
-}
-
 bool Avoidance::plausibleObstacle(const Point2D& p) const {
   const double b = config_.border_margin;
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x > b && p.y > b && p.x < config_.table_length - b &&

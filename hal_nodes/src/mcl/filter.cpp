@@ -53,10 +53,6 @@ void Filter::addAdvancing(std::shared_ptr<AdvancingInput> input) { advancing_.pu
 void Filter::addChecking(std::shared_ptr<CheckingInput> input) { checking_.push_back(std::move(input)); }
 void Filter::addSampler(std::shared_ptr<PoseSampler> sampler) { samplers_.push_back(std::move(sampler)); }
 
-void Filter::clearInputs() {
-  for (auto& c : checking_) c->clear();
-}
-
 void Filter::setPose(const Pose2D& pose, double std_xy, double std_theta) {
   set_.resize(cfg_.max_particles);
   for (std::size_t i = 0; i < set_.size(); ++i) {

@@ -29,9 +29,6 @@
 
 namespace hcl_drivers {
 
-// Boards read their ~parameters with robot_core's strict reader (robot_core/parameters.h).
-using namespace robot_core::parameter_reader;
-
 // Everything a board needs from its host at init().
 struct BoardContext {
   ros::NodeHandle nh;   // the manager's namespace (global topics)

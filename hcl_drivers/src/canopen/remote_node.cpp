@@ -47,12 +47,9 @@ bool RemoteNode::nmt(NmtCommand cmd) {
   return true;
 }
 
-bool RemoteNode::sendPdo(uint32_t cob_id, const std::vector<uint8_t>& bytes) { return sendRaw(encodePdo(cob_id, bytes)); }
 bool RemoteNode::requestPdo(uint32_t cob_id, uint8_t dlc) { return sendRaw(encodeRtr(cob_id, dlc)); }
 
 double RemoteNode::ageNow() const { return age_clock_ ? age_clock_() : nowS(); }
-
-double RemoteNode::lastHeardAge() const { return last_heard_ < 0 ? -1.0 : ageNow() - last_heard_; }
 
 double RemoteNode::heartbeatAge() const {
   const double t = last_heartbeat_;

@@ -12,8 +12,8 @@
 #include "robot_core/parameter_error.h"
 
 namespace robot_core {
-// The reader's names live in an inline namespace so a layer can take exactly them with one
-// `using namespace robot_core::parameter_reader;` (board.h, device.h).
+// The reader's names live in an inline namespace so a source file can take exactly them with one
+// `using namespace robot_core::parameter_reader;` (in a .cpp only: a header would impose it on its includers).
 inline namespace parameter_reader {
 
 // Required parameters: throw ParameterError when missing or of the wrong type.

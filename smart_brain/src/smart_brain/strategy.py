@@ -1,4 +1,4 @@
-"""The Strategy contract (the original design's Strategy and StrategyLoader).
+"""The Strategy contract (a Strategy and its StrategyLoader).
 
 A strategy has a name, a one-line description and the HAL devices it needs. The brain
 calls initialize() once, execute() in a loop at the brain's rate until it returns

@@ -22,17 +22,19 @@ struct ContactSpec {
 
   // Reads ~<block>/{topic, input|bit, invert}; throws ParameterError.
   static ContactSpec read(const ros::NodeHandle& pnh, const std::string& block) {
-    using namespace hcl_drivers;
     ros::NodeHandle p(pnh, block);
     ContactSpec c;
-    c.topic = requireString(p, "topic");
-    c.input = optionalString(p, "input", "");
-    c.bit = optionalInt(p, "bit", -1);
+    c.topic = robot_core::requireString(p, "topic");
+    c.input = robot_core::optionalString(p, "input", "");
+    c.bit = robot_core::optionalInt(p, "bit", -1);
     if (c.input.empty() == (c.bit < 0))
-      throw ParameterError("parameter " + qualified(p, "input") + " / " + qualified(p, "bit") +
-                           ": give exactly one (the input's name, or its bit 0..31)");
-    if (c.bit > 31) throw ParameterError("parameter " + qualified(p, "bit") + " = " + std::to_string(c.bit) + ": must be 0..31");
-    c.invert = optionalBool(p, "invert", false);
+      throw robot_core::ParameterError("parameter " + robot_core::qualified(p, "input") + " / " +
+                                       robot_core::qualified(p, "bit") +
+                                       ": give exactly one (the input's name, or its bit 0..31)");
+    if (c.bit > 31)
+      throw robot_core::ParameterError("parameter " + robot_core::qualified(p, "bit") + " = " + std::to_string(c.bit) +
+                                       ": must be 0..31");
+    c.invert = robot_core::optionalBool(p, "invert", false);
     return c;
   }
 

@@ -40,7 +40,6 @@ struct AvoidanceConfig {
   double clearance() const { return robot_radius + opponent_radius + margin; }
   std::string invalidReason() const;  // empty when usable
   static bool parseMode(const std::string& s, Mode* mode);
-  static const char* modeName(Mode m);
 };
 
 class Avoidance {

@@ -1,5 +1,5 @@
 // The Autopilot's control curves: a command as a function of an error, defined by two
-// parameters so each robot tunes its own feel in config (the original design):
+// parameters so each robot tunes its own feel in config:
 //
 //   fraction(e) = sign(e) * min(1, (|e| / saturation) ^ exponent)
 //

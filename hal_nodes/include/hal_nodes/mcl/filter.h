@@ -13,12 +13,11 @@
 // (likelihood collapse: kidnapped, or a wrong start) or every particle became impossible, the
 // filter declares itself lost and resets from the sensors' proposals (sensor resetting: beacon
 // trilateration), falling back to a uniform spread.
-// Probability (the original's Position.probability, /mcl/quality): P(the cloud tracks the true
-// pose), a two-state Bayes filter fed by each beacon range's predictive density against its
-// density without a pose (CheckingInput::evidence), times the cloud's mass within
-// quality_tolerance of the estimate. w_fast / w_slow only decide "lost": their ratio moves with
-// speed, sensor mix and the intersection weighting, it is no probability (it read ~0.5 while
-// driving with a good estimate and made the driver abort).
+// Probability (/mcl/quality): P(the cloud tracks the true pose), a two-state Bayes filter fed
+// by each beacon range's predictive density against its density without a pose
+// (CheckingInput::evidence), times the cloud's mass within quality_tolerance of the estimate.
+// w_fast / w_slow only decide "lost": their ratio moves with speed, sensor mix and the
+// intersection weighting, so it is no probability (a good estimate can read ~0.5 while driving).
 #pragma once
 
 #include <mrpt/bayes/CParticleFilter.h>
@@ -136,7 +135,6 @@ class Filter : private ParticleSet::Hooks {
   void weighEvidence(double predictive, double uninformed);
   void restartLikelihoodWatch();
   void computeEstimate();
-  void clearInputs();
 
   FilterConfig cfg_;
   std::shared_ptr<TableModel> table_;

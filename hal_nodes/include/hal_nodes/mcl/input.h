@@ -1,5 +1,5 @@
-// The two kinds of inputs the filter knows (the original design's modularity): an input
-// registers itself with the filter and interprets its own data.
+// The two kinds of inputs the filter knows: an input registers itself with the filter and
+// interprets its own data, so a new sensor is a new class and the filter does not change.
 //   AdvancingInput  moves the particles (odometry), with noise from its motion model.
 //   CheckingInput   reweights the particles by the likelihood of its latest measurement,
 //                   raised to its configured reliability in [0, 1] (0: ignored, 1: trusted).

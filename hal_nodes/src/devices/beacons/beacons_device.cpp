@@ -32,6 +32,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 class BeaconsDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {

@@ -21,6 +21,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 class CompassDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {

@@ -81,9 +81,6 @@
 #include "hal_nodes/driver/relative_moves.h"
 
 namespace hal_nodes {
-
-using namespace driver;
-
 namespace driver_device {
 
 // Result codes shared by the four actions (same values in every .action file).
@@ -102,7 +99,7 @@ enum Code : uint8_t {
 
 using robot_core::yawOf;
 
-inline Pose2D poseOf(const geometry_msgs::Pose& p) { return {p.position.x, p.position.y, yawOf(p.orientation)}; }
+inline driver::Pose2D poseOf(const geometry_msgs::Pose& p) { return {p.position.x, p.position.y, yawOf(p.orientation)}; }
 
 inline bool finite(std::initializer_list<double> xs) {
   for (double x : xs)
@@ -112,14 +109,12 @@ inline bool finite(std::initializer_list<double> xs) {
 
 }  // namespace driver_device
 
-using namespace driver_device;
-
 class Driver : public Effector {
  public:
   enum class Mode { NONE, GOTO, STRAIGHT, ROTATE, PATH };
-  Driver() : autopilot_(AutopilotConfig()), straight_(AutopilotConfig()), rotation_(AutopilotConfig()),
-             follower_(AutopilotConfig(), PathFollowerConfig()), avoidance_(AvoidanceConfig()),
-             recovery_(RecoveryConfig(), AutopilotConfig()), limiter_(MotionLimits()) {}
+  Driver() : autopilot_(driver::AutopilotConfig()), straight_(driver::AutopilotConfig()), rotation_(driver::AutopilotConfig()),
+             follower_(driver::AutopilotConfig(), driver::PathFollowerConfig()), avoidance_(driver::AvoidanceConfig()),
+             recovery_(driver::RecoveryConfig(), driver::AutopilotConfig()), limiter_(driver::MotionLimits()) {}
 
   void init(DeviceContext& ctx) override;
 
@@ -137,20 +132,20 @@ class Driver : public Effector {
   void updatePose();
 
   // The map pose, or false with the result code and reason when localization is not usable.
-  bool mapPose(Pose2D* pose, uint8_t* code, std::string* why);
+  bool mapPose(driver::Pose2D* pose, uint8_t* code, std::string* why);
 
   // The newest /odom is already some tens of ms old when a step runs (more on a loaded machine:
   // p99 40-110 ms at load 10-14 in the simulator); at 0.2 m/s on arrival that lag alone made the
   // robot overshoot the goal by 20+ mm. With ~predict_pose, the pose is carried from the odometry
   // stamp to now with the odometry's own twist (bounded by ~max_odom_age via fresh()).
-  void predictToNow(const nav_msgs::Odometry& o, Pose2D* pose) const;
-  bool odomPose(Pose2D* pose);
+  void predictToNow(const nav_msgs::Odometry& o, driver::Pose2D* pose) const;
+  bool odomPose(driver::Pose2D* pose);
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& msg);
   void onPathEdit(const ros::MessageEvent<PathEdit const>& event);
 
   // Obstacle points in the map from the rangers (via tf) and the tracked opponent.
-  std::vector<Point2D> obstacles(const Pose2D& robot);
-  bool rangerMount(const std::string& frame, Pose2D* mount);
+  std::vector<driver::Point2D> obstacles(const driver::Pose2D& robot);
+  bool rangerMount(const std::string& frame, driver::Pose2D* mount);
 
   // ---------------------------------------------------------------- goals
   bool preemptRequested() const;
@@ -162,7 +157,7 @@ class Driver : public Effector {
   // ---------------------------------------------------------------- passing faults
   // Whether the running goal's inputs allow driving now, with the pose to steer by (map for goto
   // and follow_path, odometry for relative moves); if not, the code and reason.
-  bool inputsSound(Pose2D* pose, uint8_t* code, std::string* why);
+  bool inputsSound(driver::Pose2D* pose, uint8_t* code, std::string* why);
 
   // Zero speed while the fault lasts, the feedback saying why; past ~max_hold the goal ends.
   void hold(uint8_t code, const std::string& why, const ros::Time& now);
@@ -170,7 +165,7 @@ class Driver : public Effector {
   // The inputs are sound (again, or for the first time since the goal came): a goto or a path
   // is planned from where the robot is now (it may have been pushed while it held); a relative
   // move keeps its target in the odometry frame and is only started if it was not yet.
-  void resume(const Pose2D& pose);
+  void resume(const driver::Pose2D& pose);
 
   // Commanded to move, odometry reads no motion, for stall_timeout: stalled.
   bool stalled(const ros::Time& now);
@@ -197,17 +192,17 @@ class Driver : public Effector {
   void startMoveBase(const move_base_msgs::MoveBaseGoal& g);
   void onSimpleGoal(const ros::MessageEvent<geometry_msgs::PoseStamped const>& event);
   void endMoveBase(uint8_t code, const std::string& message, bool success);
-  void publishMoveBaseFeedback(const Pose2D& pose);
+  void publishMoveBaseFeedback(const driver::Pose2D& pose);
   void startStraight(const GoStraightGoal& g);
   void startRotate(const RotateByGoal& g);
   void startPath(const FollowPathGoal& g);
 
   // ---------------------------------------------------------------- control
-  void send(const Twist2D& cmd);
+  void send(const driver::Twist2D& cmd);
 
   // Zero at once, no ramp: cancel, new goal, abort, deactivation.
   void stopNow();
-  void drive(const Twist2D& desired, double dt);
+  void drive(const driver::Twist2D& desired, double dt);
   std::string avoidanceNow() const;
   std::string avoidanceSummary() const { return avoidance_used_.empty() ? "none" : avoidance_used_; }
 
@@ -215,10 +210,10 @@ class Driver : public Effector {
 
   // Returns true when the robot must stand still for an obstacle this period. `route` starts at the robot.
   // On a detour, `insert` receives the waypoints.
-  bool avoid(const Pose2D& robot, const std::vector<Point2D>& route, const Point2D& final_target,
-             std::vector<Point2D>* insert) {
+  bool avoid(const driver::Pose2D& robot, const std::vector<driver::Point2D>& route, const driver::Point2D& final_target,
+             std::vector<driver::Point2D>* insert) {
     stopped_now_ = false;
-    if (avoidance_.config().mode == AvoidanceConfig::Mode::OFF) return false;
+    if (avoidance_.config().mode == driver::AvoidanceConfig::Mode::OFF) return false;
     const auto obs = obstacles(robot);
     const auto hit = avoidance_.check(route, obs);
     if (!hit.blocked) {
@@ -226,7 +221,7 @@ class Driver : public Effector {
       return false;
     }
     const bool goal_taken = std::hypot(hit.obstacle.x - final_target.x, hit.obstacle.y - final_target.y) < avoidance_.config().clearance();
-    if (avoidance_.config().mode == AvoidanceConfig::Mode::DETOUR && !goal_taken && detours_ < static_cast<uint32_t>(avoidance_.config().max_detours) &&
+    if (avoidance_.config().mode == driver::AvoidanceConfig::Mode::DETOUR && !goal_taken && detours_ < static_cast<uint32_t>(avoidance_.config().max_detours) &&
         avoidance_.detour(hit, obs, insert)) {
       ++detours_;
       noteAvoidance("detour");
@@ -245,35 +240,35 @@ class Driver : public Effector {
   }
 
   bool blockedTooLong() const;
-  void stepGoto(const Pose2D& pose, double dt);
+  void stepGoto(const driver::Pose2D& pose, double dt);
 
   // Aim the autopilot at the next waypoint (passing through, no stop) or the goal itself.
-  void startLeg(const Pose2D& pose);
+  void startLeg(const driver::Pose2D& pose);
   void publishGotoFeedback();
-  void stepRelative(const Pose2D& pose, double dt);
+  void stepRelative(const driver::Pose2D& pose, double dt);
   void publishRelativeFeedback();
-  void rebuildPath(const Pose2D& pose);
+  void rebuildPath(const driver::Pose2D& pose);
 
   // Drop the checkpoints the follower has passed from the queue.
   void popPassed();
-  void applyEdits(const Pose2D& pose);
-  void stepPath(const Pose2D& pose, double dt);
+  void applyEdits(const driver::Pose2D& pose);
+  void stepPath(const driver::Pose2D& pose, double dt);
   void publishPathFeedback();
 
   // End the running goal: stop the wheels and report. `success` only with REACHED.
   void finish(uint8_t code, const std::string& message, bool success);
 
   // ---------------------------------------------------------------- state
-  AutopilotConfig config_;
-  PathFollowerConfig path_config_;
-  Autopilot autopilot_;
-  StraightMove straight_;
-  Rotation rotation_;
-  PathFollower follower_;
-  Avoidance avoidance_;
-  Recovery recovery_;
-  VelocityLimiter limiter_;
-  PoseFusion fusion_;
+  driver::AutopilotConfig config_;
+  driver::PathFollowerConfig path_config_;
+  driver::Autopilot autopilot_;
+  driver::StraightMove straight_;
+  driver::Rotation rotation_;
+  driver::PathFollower follower_;
+  driver::Avoidance avoidance_;
+  driver::Recovery recovery_;
+  driver::VelocityLimiter limiter_;
+  driver::PoseFusion fusion_;
 
   std::unique_ptr<actionlib::SimpleActionServer<GotoAction>> goto_;
   std::unique_ptr<actionlib::SimpleActionServer<GoStraightAction>> straight_as_;
@@ -293,7 +288,7 @@ class Driver : public Effector {
   std::shared_ptr<LatestValue<geometry_msgs::PointStamped>> opponent_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  std::map<std::string, Pose2D> mounts_;
+  std::map<std::string, driver::Pose2D> mounts_;
 
   ros::Publisher cmd_pub_, path_pub_;
   ros::Subscriber edit_sub_, diag_sub_;
@@ -310,8 +305,8 @@ class Driver : public Effector {
   GoStraightGoal straight_goal_;
   RotateByGoal rotate_goal_;
   double period_ = 0.02;
-  AutopilotGoal goal_;
-  std::vector<Point2D> waypoints_;  // detour waypoints before goal_
+  driver::AutopilotGoal goal_;
+  std::vector<driver::Point2D> waypoints_;  // detour waypoints before goal_
   bool detour_active_ = false, stopped_now_ = false;
   std::vector<driver::Checkpoint> queue_;   // the follow_path checkpoints of the current curve
   std::deque<PathEdit> pending_edits_;
@@ -321,7 +316,7 @@ class Driver : public Effector {
   uint32_t detours_ = 0;
   std::string avoidance_used_;
 
-  DriverDeviceConfig settings_;
+  driver::DriverDeviceConfig settings_;
   bool motor_fault_ = false;
   std::string motor_fault_message_;
   unsigned long goals_ = 0, aborted_ = 0, holds_ = 0, stalls_ = 0, edits_dropped_ = 0, tf_errors_ = 0, border_echoes_ = 0,

@@ -3,6 +3,9 @@
 
 namespace hal_nodes {
 
+using namespace driver;
+using namespace driver_device;
+
 void Driver::send(const Twist2D& cmd) {
   geometry_msgs::Twist t;
   t.linear.x = cmd.v;

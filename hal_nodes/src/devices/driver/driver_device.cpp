@@ -3,6 +3,10 @@
 
 namespace hal_nodes {
 
+using namespace driver;
+using namespace driver_device;
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 void Driver::init(DeviceContext& ctx) {
   period_ = 1.0 / ctx.rate;
   const robot_core::Params params = robot_core::Params::of(ctx.pnh);  // the reader the bench and tests use too

@@ -5,6 +5,9 @@
 
 namespace hal_nodes {
 
+using namespace driver;
+using namespace driver_device;
+
 bool Driver::preemptRequested() const {
   switch (mode_) {
     case Mode::GOTO: return goto_from_move_base_ ? move_base_->isPreemptRequested() : goto_->isPreemptRequested();

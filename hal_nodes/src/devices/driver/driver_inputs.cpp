@@ -5,6 +5,9 @@
 
 namespace hal_nodes {
 
+using namespace driver;
+using namespace driver_device;
+
 void Driver::updatePose() {
   if (auto o = odom_->newest()) fusion_.addOdometry(o->header.stamp.toSec(), poseOf(o->pose.pose));
   auto m = pose_->newest();

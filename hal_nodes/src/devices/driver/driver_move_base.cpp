@@ -13,6 +13,9 @@
 
 namespace hal_nodes {
 
+using namespace driver;
+using namespace driver_device;
+
 void Driver::startMoveBaseServer(ros::NodeHandle& nh) {
   move_base_ = std::make_unique<actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>>(nh, "/move_base", false);
   auto stop = [this]() { stopNow(); };

@@ -22,6 +22,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 class ExampleDevice : public Effector {
  public:
   void init(DeviceContext& ctx) override {

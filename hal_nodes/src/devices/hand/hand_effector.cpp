@@ -35,6 +35,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 class HandEffector : public Effector {
  public:
   void init(DeviceContext& ctx) override {

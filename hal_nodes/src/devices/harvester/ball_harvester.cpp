@@ -28,6 +28,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 class BallHarvester : public Effector {
  public:
   void init(DeviceContext& ctx) override {

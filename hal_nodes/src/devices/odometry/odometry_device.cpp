@@ -37,6 +37,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 namespace {
 
 using Counter = hcl_drivers::EncoderCounter;

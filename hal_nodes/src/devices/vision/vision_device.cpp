@@ -38,6 +38,8 @@
 
 namespace hal_nodes {
 
+using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
 class VisionDevice : public Device {
  public:
   void init(DeviceContext& ctx) override {

@@ -5,6 +5,7 @@
 // Boards naming the same bus share one I2cBus (and belong on one loop group: `loop: i2c-1`).
 #pragma once
 
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <ros/ros.h>
 
 #include <memory>
@@ -24,6 +25,10 @@ struct I2cDevice {
 
 // Throws ParameterError naming the parameter and the allowed values.
 I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address_max);
+
+// The diagnostics every I2C board reports first: its address, its bus and the bus's error
+// counters (shared by the boards on that bus).
+void diagnoseI2c(const I2cDevice& dev, diagnostic_updater::DiagnosticStatusWrapper& stat);
 
 // The hardware doctor's part every I2C board shares: opens the device as above (no retries:
 // a chip that is there ACKs at once), declares the channel for the bus scan and reads `n` bytes

@@ -39,7 +39,6 @@ class RemoteNode {
   void onBootUp(std::function<void()> h) { on_boot_up_ = std::move(h); }
 
   bool nmt(NmtCommand cmd);
-  bool sendPdo(uint32_t cob_id, const std::vector<uint8_t>& bytes);
   bool requestPdo(uint32_t cob_id, uint8_t dlc);
   bool sendRaw(const transport::CanFrame& f);
 
@@ -73,9 +72,7 @@ class RemoteNode {
   unsigned long unknownCobIds() const { return unknown_; }
   unsigned long sdoAborts() const { return sdo_aborts_; }
   unsigned long sdoTimeouts() const { return sdo_timeouts_; }
-  // Seconds since the last frame from this node (any kind); negative when none yet.
-  double lastHeardAge() const;
-  // The clock of the ages above (heartbeats, last heard): monotonic by default; a board node
+  // The clock of the heartbeat age above: monotonic by default; a board node
   // gives ROS time, so a node's heartbeat period means the same at any simulated speed. SDO
   // reply windows stay on the monotonic clock: the other end answers in wall time.
   void setAgeClock(std::function<double()> clock) { age_clock_ = std::move(clock); }

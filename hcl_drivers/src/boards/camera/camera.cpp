@@ -27,6 +27,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class Camera : public Board {
  public:
   ~Camera() override {

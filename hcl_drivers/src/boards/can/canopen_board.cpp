@@ -6,6 +6,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 using transport::BusState;
 
 std::string CanopenBoard::busParam(const ros::NodeHandle& pnh) {

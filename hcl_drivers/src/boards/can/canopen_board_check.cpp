@@ -7,6 +7,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 namespace {
 
 std::string hex(uint32_t v, int digits) {

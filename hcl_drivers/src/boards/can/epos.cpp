@@ -28,6 +28,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class Epos : public CanopenBoard {
  protected:
   void setup(BoardContext& ctx) override {

@@ -21,6 +21,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class HmiBoard : public CanopenBoard {
  protected:
   void setup(BoardContext& ctx) override {

@@ -23,6 +23,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class MotorBoard : public CanopenBoard {
  protected:
   void setup(BoardContext& ctx) override {

@@ -24,6 +24,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class ServoBoard : public CanopenBoard {
  protected:
   void setup(BoardContext& ctx) override {

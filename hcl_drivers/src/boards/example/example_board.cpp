@@ -20,6 +20,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class ExampleBoard : public Board {
  public:
   void init(BoardContext& ctx) override {

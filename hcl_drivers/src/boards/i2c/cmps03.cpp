@@ -72,13 +72,8 @@ class CMPS03 : public Board {
   void halt() override {}  // a sensor: nothing to make safe
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    const auto c = dev_.bus->counters();
+    diagnoseI2c(dev_, stat);
     std::lock_guard<std::mutex> lk(mutex_);
-    stat.addf("address", "0x%02x", dev_.address);
-    stat.add("bus", dev_.bus->url());
-    stat.add("bus NACKs", c.nacks);
-    stat.add("bus timeouts", c.timeouts);
-    stat.add("bus errors", c.bus_errors);
     stat.add("garbled reads", garbled_);
   }
 

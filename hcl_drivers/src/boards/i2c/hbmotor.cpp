@@ -23,6 +23,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class HBMotor : public Board {
  public:
   void init(BoardContext& ctx) override {
@@ -108,14 +110,8 @@ class HBMotor : public Board {
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    const auto c = dev_.bus->counters();
+    diagnoseI2c(dev_, stat);
     std::lock_guard<std::mutex> lk(mutex_);
-    stat.addf("address", "0x%02x", dev_.address);
-    stat.add("bus", dev_.bus->url());
-    stat.add("bus NACKs", c.nacks);
-    stat.add("bus timeouts", c.timeouts);
-    stat.add("bus errors", c.bus_errors);
-    stat.add("bus retries", c.retries);
     stat.add("garbled reads", garbled_);
     stat.add("board resets seen", resets_);
     stat.add("commands dropped as stale", stale_commands_);

@@ -4,9 +4,11 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "hcl_drivers/board.h"  // robot_core's parameter reader, as every board reads it
+#include "hcl_drivers/board.h"
 
 namespace hcl_drivers {
+
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
 
 I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address_max) {
   I2cDevice d;
@@ -34,6 +36,16 @@ I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address
   d.bus->setTimeout(timeout);
   d.bus->setRetries(retries);
   return d;
+}
+
+void diagnoseI2c(const I2cDevice& dev, diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const auto c = dev.bus->counters();
+  stat.addf("address", "0x%02x", dev.address);
+  stat.add("bus", dev.bus->url());
+  stat.add("bus NACKs", c.nacks);
+  stat.add("bus timeouts", c.timeouts);
+  stat.add("bus errors", c.bus_errors);
+  stat.add("bus retries", c.retries);
 }
 
 bool checkI2cIdentity(const ros::NodeHandle& pnh, int address_min, int address_max, uint8_t reg, std::size_t n,

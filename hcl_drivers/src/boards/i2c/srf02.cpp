@@ -28,6 +28,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class SRF02 : public Board {
  public:
   void init(BoardContext& ctx) override {
@@ -96,13 +98,8 @@ class SRF02 : public Board {
   void halt() override { started_ = ros::Time(); }  // nothing moves; restart ranging cleanly
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    const auto c = dev_.bus->counters();
+    diagnoseI2c(dev_, stat);
     std::lock_guard<std::mutex> lk(mutex_);
-    stat.addf("address", "0x%02x", dev_.address);
-    stat.add("bus", dev_.bus->url());
-    stat.add("bus NACKs", c.nacks);
-    stat.add("bus timeouts", c.timeouts);
-    stat.add("bus errors", c.bus_errors);
     stat.add("busy reads", busy_reads_);
     stat.add("garbled reads", garbled_);
     stat.add("ranges", ranges_);

@@ -33,6 +33,8 @@
 
 namespace hcl_drivers {
 
+using namespace robot_core::parameter_reader;  // as every board reads its parameters
+
 class BeaconReceiver : public Board {
  public:
   ~BeaconReceiver() override {

@@ -16,9 +16,6 @@
 
 namespace robot_sim {
 
-// Emulators read their parameters as boards and devices do: strictly, naming the parameter.
-using namespace robot_core::parameter_reader;
-
 class World;  // the simulated world (robot_sim/world), absent for world-less emulators
 
 // The board's own clock [s]: ROS time, so in a simulation the simulator's /clock (a heartbeat

@@ -8,6 +8,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 using hcl_drivers::transport::CanFilter;
 
 namespace {

@@ -16,6 +16,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 class EposFirmware : public CanopenFirmware {
  protected:
   enum State : uint16_t { kSwitchOnDisabled = 0x0240, kReadyToSwitchOn = 0x0221, kSwitchedOn = 0x0233,

@@ -24,6 +24,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 class ExampleBoardFirmware : public Firmware {
  public:
   ~ExampleBoardFirmware() override { stop(); }

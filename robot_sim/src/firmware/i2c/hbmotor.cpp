@@ -21,6 +21,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 class HBMotorFirmware : public RegisterChip {
  public:
   ~HBMotorFirmware() override { stop(); }
@@ -49,17 +51,10 @@ class HBMotorFirmware : public RegisterChip {
     if (world_ && !motor_.empty()) world_->setMotorCommand(motor_, 0.0);
   }
 
-  bool applyFault(const std::string& kind, bool active) override {
-    if (kind == "board_reset") {
-      if (active) {
-        std::lock_guard<std::mutex> lk(mutex_);
-        powerOn();
-      }
-      return true;
-    }
-    if (kind != "board_silent") return false;
-    setSilent(active);
-    return true;
+  bool resettable() const override { return true; }
+  void resetToPowerOn() override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    powerOn();
   }
 
  protected:

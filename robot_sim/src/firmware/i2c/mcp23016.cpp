@@ -42,17 +42,10 @@ class MCP23016Firmware : public RegisterChip {
     truth_timer_.stop();
   }
 
-  bool applyFault(const std::string& kind, bool active) override {
-    if (kind == "board_reset") {
-      if (active) {
-        std::lock_guard<std::mutex> lk(mutex_);
-        powerOn();
-      }
-      return true;
-    }
-    if (kind != "board_silent") return false;
-    setSilent(active);
-    return true;
+  bool resettable() const override { return true; }
+  void resetToPowerOn() override {
+    std::lock_guard<std::mutex> lk(mutex_);
+    powerOn();
   }
 
  protected:

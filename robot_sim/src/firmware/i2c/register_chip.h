@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <mutex>
+#include <string>
 
 #include "i2c_bus_server.h"
 #include "robot_sim/firmware/firmware.h"
@@ -19,6 +20,16 @@ class RegisterChip : public Firmware, public I2cSlave {
   ~RegisterChip() override { detachBus(); }
 
   bool acknowledge() override { return !silent(); }
+
+  // board_reset for a chip with a power-on state (it overrides resetToPowerOn()), board_silent
+  // for every chip.
+  bool applyFault(const std::string& kind, bool active) override {
+    if (kind == "board_reset" && resettable()) {
+      if (active) resetToPowerOn();
+      return true;
+    }
+    return Firmware::applyFault(kind, active);
+  }
   void i2cWrite(const uint8_t* data, std::size_t n) override {
     if (n == 0) return;
     pointer_ = data[0];
@@ -39,6 +50,10 @@ class RegisterChip : public Firmware, public I2cSlave {
   virtual uint8_t readRegister(uint8_t reg, bool first_of_read) = 0;
   virtual void writeRegister(uint8_t reg, uint8_t value) = 0;
   virtual uint8_t nextPointer(uint8_t reg) { return static_cast<uint8_t>(reg + 1); }
+  // A chip that loses its registers on a reset (brown-out) puts them back to their power-on
+  // values here, under its own lock.
+  virtual bool resettable() const { return false; }
+  virtual void resetToPowerOn() {}
 
   // Reads ~bus and ~address (within lo..hi) and attaches to the bus. Throws std::runtime_error.
   void attachBus(FirmwareContext& ctx, int lo, int hi) {

@@ -18,6 +18,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 class SRF02Firmware : public RegisterChip {
  public:
   ~SRF02Firmware() override { stop(); }

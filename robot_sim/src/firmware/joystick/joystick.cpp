@@ -30,6 +30,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 class JoystickFirmware : public Firmware {
  public:
   ~JoystickFirmware() override { stop(); }

@@ -37,6 +37,8 @@
 
 namespace robot_sim {
 
+using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
+
 class BeaconReceiverFirmware : public Firmware {
  public:
   ~BeaconReceiverFirmware() override { stop(); }
