@@ -81,14 +81,18 @@ def sleep(duration):
         initial = rospy.rostime.get_rostime()
     deadline = initial + duration
     event = threading.Event()
+    registered = False  # the deadline is in the condition's heap (once, however long the clock stalls)
     while not rospy.core.is_shutdown():
         now = rospy.rostime.get_rostime()
         if now < initial or now >= deadline:
             break
-        with cond:
-            cond.wake_at(deadline, event)
-        event.wait(_SHUTDOWN_POLL)
-        event.clear()
+        if not registered:
+            with cond:
+                cond.wake_at(deadline, event)
+            registered = True
+        if event.wait(_SHUTDOWN_POLL):
+            event.clear()
+            registered = False  # its entry was taken: the deadline came, or time moved back
     now = rospy.rostime.get_rostime()
     if now < initial:
         raise rospy.exceptions.ROSTimeMovedBackwardsException((initial - now).to_sec())
