@@ -23,8 +23,6 @@ if [ "${1:-}" = "--stress" ]; then
   shift
   command -v stress-ng >/dev/null || { echo "latency --stress: stress-ng is not installed (make deps installs it)"; exit 2; }
   stress=cpu$(nproc)
-  stress-ng --cpu "$(nproc)" --quiet &
-  stress_pid=$!
 fi
 cleanup() {
   [ -n "$launch" ] && kill -INT "$launch" 2>/dev/null
@@ -37,11 +35,16 @@ run() {  # run MODE BRAIN_TRIGGER
   roslaunch -p $port "$root/scripts/bench/latency.launch" brain_trigger:=$2 >"$log/launch_$1.log" 2>&1 &
   launch=$!
   for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
+  if [ -n "$stress" ]; then  # the load starts once the robot is up: the bench measures a loaded robot, not a slow start
+    stress-ng --cpu "$(nproc)" --quiet &
+    stress_pid=$!
+  fi
   if ! python3 "$root/scripts/bench/latency_bench.py" "$1" "${EVENTS}" | tee "$log/$1.out"; then
     echo "latency bench ($1) FAILED; launch log tail:"
     tail -20 "$log/launch_$1.log"
     status=1
   fi
+  if [ -n "$stress_pid" ]; then kill -INT "$stress_pid" 2>/dev/null; wait "$stress_pid" 2>/dev/null; stress_pid=; fi
   kill -INT "$launch" 2>/dev/null; wait "$launch" 2>/dev/null
   launch=
 }
