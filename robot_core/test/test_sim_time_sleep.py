@@ -26,6 +26,8 @@ def set_time_ms(ms):
 
 
 def wait_until(pred, timeout=2.0):
+    # Wall time on purpose: it waits for the sleeper threads, which the OS runs on wall time; ROS
+    # time is what the test sets by hand.
     end = time.time() + timeout
     while not pred() and time.time() < end:
         time.sleep(0.001)
@@ -108,7 +110,7 @@ class SimTimeSleepTest(unittest.TestCase):
         self.assertEqual(self.pending(), 0)
 
     def test_zero_and_negative_durations_return_at_once(self):
-        start = time.time()
+        start = time.time()  # wall: "at once" means the call did not block, whatever ROS time does
         rospy.sleep(0.0)
         rospy.sleep(-1.0)
         self.assertLess(time.time() - start, 0.5)

@@ -46,8 +46,7 @@ class DeadlineCondition(threading.Condition):
         now = rospy.rostime._rostime_current  # None: back on the wall clock
         now_ns = None if now is None else now.to_nsec()
         if now_ns is None or (self._last is not None and now_ns < self._last):
-            while self._deadlines:  # every sleeper looks again, then raises or sleeps on
-                heapq.heappop(self._deadlines)[2].set()
+            self._wake_all()  # every sleeper looks again, then raises or sleeps on
         else:
             while self._deadlines and self._deadlines[0][0] <= now_ns:
                 heapq.heappop(self._deadlines)[2].set()
@@ -58,8 +57,11 @@ class DeadlineCondition(threading.Condition):
 
     def wake_everyone(self):
         with self:
-            while self._deadlines:
-                heapq.heappop(self._deadlines)[2].set()
+            self._wake_all()
+
+    def _wake_all(self):  # with the lock held
+        while self._deadlines:
+            heapq.heappop(self._deadlines)[2].set()
 
 
 _wall_sleep = rospy.timer.sleep  # rospy's own, for wall time
