@@ -1,7 +1,8 @@
 // The localization filter on short synthetic beacon runs generated here with a fixed seed
 // (the same model as scripts/bench/data/make_beacon_run.py): tracking, global localization from a
-// uniform cloud, a kidnapped robot recovered without help, a silenced beacon, determinism of a
-// replay with a fixed seed, every MRPT resampling scheme, and the KLD-adaptive count.
+// uniform cloud, a kidnapped robot recovered without help, a small push followed standing still,
+// a silenced beacon, determinism of a replay with a fixed seed, every MRPT resampling scheme, and
+// the KLD-adaptive count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -78,11 +79,11 @@ struct Rig {
   std::shared_ptr<BeaconBelts> beacons;
   std::unique_ptr<Filter> filter;
 
-  explicit Rig(FilterConfig fc = {}) {
+  explicit Rig(FilterConfig fc = {}, double range_std = 0.01) {
     odom = std::make_shared<OdometryInput>(std::vector<OdometryInput::Pair>{{"wheels", 1.0}}, MotionModel{});
     BeaconBeltsConfig bc;
     bc.beacons = kBeacons;
-    bc.range_std = 0.01;
+    bc.range_std = range_std;
     beacons = std::make_shared<BeaconBelts>(bc, table);
     filter = std::make_unique<Filter>(fc, table);
     filter->addAdvancing(odom);
@@ -187,6 +188,24 @@ TEST(Filter, NoticesAShortPushAndRecovers) {
   EXPECT_GT(maxOf(after, 0, 20), 0.25);  // the push happened
   EXPECT_GE(rig.filter->resets(), 1u);
   EXPECT_LT(maxOf(after, 300, after.size()), 0.05) << "not recovered within 3 s";
+}
+
+// A still robot pushed 3 cm, less than the contradiction test notices, with the ranges trusted
+// at twice their noise (the robots' configs): the adaptive set, resampled with no motion noise,
+// must not collapse onto copies of the pre-push pose and stay there (it stayed 22 mm off).
+TEST(Filter, FollowsASmallPushStandingStill) {
+  const auto steps = makeRun(21, 14.0, 7.0, -1, 0.0, 0.0, 0.03);
+  FilterConfig fc;
+  fc.max_particles = 1000;
+  fc.min_particles = 300;
+  fc.adaptive = true;
+  Rig rig(fc, 0.02);
+  rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
+  rig.run(steps, 0, 700);
+  const auto after = rig.run(steps, 700);
+  EXPECT_GT(maxOf(after, 0, 20), 0.02);  // the push happened
+  EXPECT_LT(maxOf(after, 300, after.size()), 0.01) << "not followed within 3 s";
+  EXPECT_GT(std::sqrt(rig.filter->estimate().cov[0]), 0.0005) << "the set collapsed onto one pose";
 }
 
 // The probability says whether the estimate is within quality_tolerance of the truth: high

@@ -234,7 +234,14 @@ std::size_t Filter::resampledCount(const ParticleSet&, const std::vector<size_t>
 }
 
 void Filter::afterResampling(ParticleSet& set) {
-  if (ctx_.now >= recover_until_) return;
+  if (ctx_.now >= recover_until_) {
+    if (cfg_.jitter_xy <= 0.0) return;
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      set.x[i] += cfg_.jitter_xy * rng_.gaussian();
+      set.y[i] += cfg_.jitter_xy * rng_.gaussian();
+    }
+    return;
+  }
   for (std::size_t i = 0; i < set.size(); ++i) {
     set.x[i] += cfg_.roughen_xy * rng_.gaussian();
     set.y[i] += cfg_.roughen_xy * rng_.gaussian();

@@ -54,6 +54,11 @@ struct FilterConfig {
   double recovery_time = 2.0;  // [s]
   double roughen_xy = 0.003;   // [m]
   double roughen_theta = 0.02; // [rad]
+  // Position jitter at every resampling, recovering or not. Resampling a robot that stands still
+  // only copies particles (no motion noise spreads them), and a cloud of copies of one pose cannot
+  // follow the beacons to a pose it never held: a push of a few centimetres stayed uncorrected.
+  // Position only: standing still, the beacons pin the position but not the heading.
+  double jitter_xy = 0.002;    // [m]
   double quality_tolerance = 0.05;  // [m] "right" means within this of the truth
   // Probability of a change between tracking and not tracking per measurement with evidence
   // (kidnap, slip): keeps the tracking probability from saturating, so it can fall quickly.

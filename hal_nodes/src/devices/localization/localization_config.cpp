@@ -73,6 +73,7 @@ LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) 
   readInRange(p, "contradiction_nis", &fc.contradiction_nis, 0.0, 1e6);
   readInRange(p, "contradiction_window", &fc.contradiction_window, 0.01, 60.0);
   readInRange(p, "roughen_nis", &fc.roughen_nis, 0.0, 1e6);
+  readInRange(p, "jitter_xy", &fc.jitter_xy, 0.0, 0.05);
   readInRange(p, "cluster_bin_xy", &fc.cluster_bin_xy, 1e-3, 10.0);
   readInRange(p, "cluster_bin_theta", &fc.cluster_bin_theta, 1e-3, M_PI);
   fc.contradiction_count = static_cast<std::size_t>(p.optionalDouble("contradiction_count", fc.contradiction_count));

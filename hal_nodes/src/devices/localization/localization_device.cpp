@@ -30,6 +30,8 @@
 //   ~contradiction_nis [9] ~contradiction_window [1 s] ~contradiction_count [10]: lost (kidnap) when
 //             the median normalized innovation of the last window's measurements is above it;
 //             ~roughen_nis [2]: above this median the set is roughened (a slip to catch up with)
+//   ~jitter_xy [0.002 m]: position jitter at every resampling, so that a robot standing still
+//             (no motion noise) keeps a cloud that can follow the beacons (filter.h)
 //   ~cluster_bin_xy [0.10 m] ~cluster_bin_theta [0.20 rad]: the grid the cloud is clustered on
 //             when it spreads wider than one cell (the estimate is then the heaviest cluster's)
 //   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
