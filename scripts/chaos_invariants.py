@@ -44,7 +44,8 @@ RECORDER_RESTART = 10.0   # [s, wall] a respawned recorder subscribes again to ~
 #: Which process publishes a topic (first matching prefix and suffix); None: several, or the simulator.
 #: The HAL commands the boards on /hcl/<board>/...; the emulated camera serves frames to the HCL.
 OWNERS = (('/hcl/', '/command', '/hal'), ('/hcl/', '/pulse_us', '/hal'), ('/hcl/', '/target', '/hal'),
-          ('/hcl/', '/lcd', '/hal'), ('/hcl/', '', '/hcl'), ('/sim/camera/', '', '/hcl'), ('/hal/', '', '/hal'),
+          ('/hcl/', '/lcd', '/hal'), ('/hcl/', '/outputs', '/hal'), ('/hcl/', '/lamp_pwm', '/hal'),
+          ('/hcl/', '', '/hcl'), ('/sim/camera/', '', '/hcl'), ('/hal/', '', '/hal'),
           ('/mcl/', '', '/hal'), ('/odom', '', '/hal'), ('/tf', '', '/hal'), ('/effectors/', '', '/hal'),
           ('/brain/', '', '/brain'))
 #: Topics that carry events, not a stream: action goals, results and feedback (however often a

@@ -152,6 +152,17 @@ class LostTest(unittest.TestCase):
         m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
         self.assertEqual(inv.nothing_lost(m, [fault('kill', '/hcl', 30.0, 31.0)], 0.0, 90.0, 0.0, {}), [])
 
+    def test_the_commands_hal_sends_a_board_pause_with_hal(self):
+        # Logion's LEDs (the HMI device's outputs to the I/O expander), silent 8.6 s from a kill of
+        # /hal until the respawned HAL's HMI device published again (a Logion chaos match).
+        m = FakeMatch({'/hcl/io/outputs': self.stream(0, 90, gap=(41.9, 50.5))})
+        self.assertEqual(inv.nothing_lost(m, [dict(fault('kill', '/hal', 41.9, 45.2), factor=2.86)],
+                                          0.0, 90.0, 0.0, {}), [])
+        self.assertEqual(len(inv.nothing_lost(m, [dict(fault('kill', '/brain', 41.9, 45.2), factor=2.86)],
+                                              0.0, 90.0, 0.0, {})), 1)
+        self.assertEqual(inv.owner('/hcl/example_board/lamp_pwm'), '/hal')
+        self.assertEqual(inv.owner('/hcl/io/inputs'), '/hcl')
+
     def test_a_topic_that_stops_before_the_end_is_lost(self):
         m = FakeMatch({'/hcl/joystick/joy': self.stream(0, 45)})
         self.assertEqual(len(inv.nothing_lost(m, [], 0.0, 90.0, 0.0, {})), 1)
