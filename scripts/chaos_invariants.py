@@ -42,10 +42,13 @@ RECORDER_RESTART = 10.0   # [s, wall] a respawned recorder subscribes again to ~
                           # after the recorder answered, on a loaded machine
 
 #: Which process publishes a topic (first matching prefix and suffix); None: several, or the simulator.
-#: The HAL commands the boards on /hcl/<board>/...; the emulated camera serves frames to the HCL.
+#: The HAL commands the boards on /hcl/<board>/...; the emulated camera serves frames to the HCL,
+#: and the emulated SRF02s and CMPS03 publish their truth when the HCL's driver asks them for a
+#: reading over I2C (/sim/<chip>/range, /bearing): all of these pause with their requester.
 OWNERS = (('/hcl/', '/command', '/hal'), ('/hcl/', '/pulse_us', '/hal'), ('/hcl/', '/target', '/hal'),
           ('/hcl/', '/lcd', '/hal'), ('/hcl/', '/outputs', '/hal'), ('/hcl/', '/lamp_pwm', '/hal'),
-          ('/hcl/', '', '/hcl'), ('/sim/camera/', '', '/hcl'), ('/hal/', '', '/hal'),
+          ('/hcl/', '', '/hcl'), ('/sim/camera/', '', '/hcl'),
+          ('/sim/', '/range', '/hcl'), ('/sim/', '/bearing', '/hcl'), ('/hal/', '', '/hal'),
           ('/mcl/', '', '/hal'), ('/odom', '', '/hal'), ('/tf', '', '/hal'), ('/effectors/', '', '/hal'),
           ('/brain/', '', '/brain'))
 #: Topics that carry events, not a stream: action goals, results and feedback (however often a

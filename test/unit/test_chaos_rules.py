@@ -163,6 +163,16 @@ class LostTest(unittest.TestCase):
         self.assertEqual(inv.owner('/hcl/example_board/lamp_pwm'), '/hal')
         self.assertEqual(inv.owner('/hcl/io/inputs'), '/hcl')
 
+    def test_the_i2c_chips_truth_pauses_with_the_hcl_that_asks_for_it(self):
+        # An emulated SRF02 ranges (and publishes its truth) when the driver commands it: silent
+        # 5.6 s after a kill of /hcl in a Logion chaos match.
+        m = FakeMatch({'/sim/ranger_front/range': self.stream(0, 90, gap=(76.3, 81.9)),
+                       '/sim/compass/bearing': self.stream(0, 90, gap=(76.3, 81.3))})
+        self.assertEqual(inv.nothing_lost(m, [dict(fault('kill', '/hcl', 76.3, 80.3), factor=3.47)],
+                                          0.0, 90.0, 0.0, {}), [])
+        self.assertEqual(len(inv.nothing_lost(m, [dict(fault('kill', '/hal', 76.3, 80.3), factor=3.47)],
+                                              0.0, 90.0, 0.0, {})), 2)
+
     def test_a_topic_that_stops_before_the_end_is_lost(self):
         m = FakeMatch({'/hcl/joystick/joy': self.stream(0, 45)})
         self.assertEqual(len(inv.nothing_lost(m, [], 0.0, 90.0, 0.0, {})), 1)
