@@ -351,7 +351,9 @@ class Match(object):
             sent = {msg.goal_id.id: t.to_sec() for _, msg, t in self.read(goal_topic)}
             ended = {msg.status.goal_id.id: t.to_sec() for _, msg, t in self.read(base + '/result')}
             spans += [(t, ended.get(gid)) for gid, t in sent.items()]
-        return sorted(spans)
+        # A goal that never ended (its server killed mid-goal) has no end: it sorts last among
+        # goals sent at the same time instead of being compared with a number.
+        return sorted(spans, key=lambda span: (span[0], float('inf') if span[1] is None else span[1]))
 
     def idle(self, start, end):
         """The idle stretches [(t0, t1)] between start and end (idle_time.py): no HAL action goal

@@ -7,7 +7,7 @@ import unittest
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-from match_report import stamp_of  # noqa: E402
+from match_report import Match, stamp_of  # noqa: E402
 
 
 class Time(object):
@@ -42,6 +42,45 @@ class ReportTimesTest(unittest.TestCase):
 
     def test_a_robot_on_the_wall_clock_keeps_its_stamps(self):
         self.assertEqual(stamp_of(Msg(1795773675.2), Time(1795773675.3)), 1795773675.2)
+
+
+class GoalId(object):
+    def __init__(self, gid):
+        self.id = gid
+
+
+class Goal(object):
+    def __init__(self, gid):
+        self.goal_id = GoalId(gid)
+
+
+class Result(object):
+    def __init__(self, gid):
+        self.status = Goal(gid)
+
+
+class GoalBag(object):
+    """What Match.hal_goal_spans reads: one action's goals and results, (message, bag time)."""
+
+    def __init__(self, goals, results):
+        self.topics = {'/hal/driver/goto/goal': goals, '/hal/driver/goto/result': results}
+
+    def find(self, prefix, suffix):
+        return [t for t in self.topics if t.startswith(prefix) and t.endswith(suffix)]
+
+    def has(self, topic):
+        return topic in self.topics
+
+    def read(self, topic):
+        return [(topic, msg, Time(t)) for msg, t in self.topics[topic]]
+
+
+class GoalSpansTest(unittest.TestCase):
+    def test_a_goal_that_never_ended_beside_one_sent_at_the_same_time(self):
+        # The HAL killed mid-goal: its goal has no result (a chaos match's report stopped here).
+        bag = GoalBag([(Goal('a'), 12.0), (Goal('b'), 12.0), (Goal('c'), 3.0)],
+                      [(Result('b'), 14.5), (Result('c'), 5.0)])
+        self.assertEqual(Match.hal_goal_spans(bag), [(3.0, 5.0), (12.0, 14.5), (12.0, None)])
 
 
 if __name__ == '__main__':
