@@ -1,4 +1,4 @@
-// mcl_bench RUN.csv PARTICLES track|global [--kld] [--seed N] [--table LENGTH WIDTH]
+// mcl_bench RUN.csv PARTICLES track|global [--kld] [--seed N] [--jitter M] [--table LENGTH WIDTH]
 // Runs the localization device's own filter (libhal_mcl, the code the node links) on a
 // synthetic beacon run and prints one line in the format of scripts/bench/data/README.md.
 // Parameters are the node's defaults (config/<robot>.yaml `hal: localization:` block), so
@@ -17,7 +17,7 @@ using namespace hal_nodes::mcl;
 
 int main(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: mcl_bench RUN.csv PARTICLES track|global [--kld] [--seed N] [--table LENGTH WIDTH]\n");
+    std::fprintf(stderr, "usage: mcl_bench RUN.csv PARTICLES track|global [--kld] [--seed N] [--jitter M] [--table LENGTH WIDTH]\n");
     return 2;
   }
   const std::string path = argv[1], mode = argv[3];
@@ -28,10 +28,12 @@ int main(int argc, char** argv) {
   }
   bool kld = false;
   uint64_t seed = 1;
+  double jitter = FilterConfig{}.jitter_xy;  // [m] ~jitter_xy: compare a run with and without it
   double length = 3.0, width = 2.1;
   for (int i = 4; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--kld")) kld = true;
     else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--jitter") && i + 1 < argc) jitter = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--table") && i + 2 < argc) {
       length = std::atof(argv[++i]);
       width = std::atof(argv[++i]);
@@ -54,6 +56,7 @@ int main(int argc, char** argv) {
   fc.min_particles = std::min<std::size_t>(fc.min_particles, fc.max_particles);
   fc.adaptive = kld;
   fc.seed = seed;
+  fc.jitter_xy = jitter;
   Filter filter(fc, table);
   MotionModel mm;
   auto odom = std::make_shared<OdometryInput>(std::vector<OdometryInput::Pair>{{"wheels", 1.0}}, mm);
