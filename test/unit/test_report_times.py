@@ -1,9 +1,11 @@
 """Every time in a match report is match time (scripts/match_report.py stamp_of): a message's
 header stamp when it is on the bag's clock, the bag time when it is on another one (process_watch
-probes on the wall clock and stamps its diagnostics with epoch seconds in a simulated match)."""
+probes on the wall clock and stamps its diagnostics with epoch seconds in a simulated match); and a
+goal that never ended does not stop the report's goal spans."""
 import os
 import sys
 import unittest
+from types import SimpleNamespace
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 sys.path.insert(0, os.path.join(ROOT, 'scripts'))
@@ -44,19 +46,12 @@ class ReportTimesTest(unittest.TestCase):
         self.assertEqual(stamp_of(Msg(1795773675.2), Time(1795773675.3)), 1795773675.2)
 
 
-class GoalId(object):
-    def __init__(self, gid):
-        self.id = gid
+def goal(gid):
+    return SimpleNamespace(goal_id=SimpleNamespace(id=gid))
 
 
-class Goal(object):
-    def __init__(self, gid):
-        self.goal_id = GoalId(gid)
-
-
-class Result(object):
-    def __init__(self, gid):
-        self.status = Goal(gid)
+def result(gid):
+    return SimpleNamespace(status=goal(gid))
 
 
 class GoalBag(object):
@@ -78,8 +73,8 @@ class GoalBag(object):
 class GoalSpansTest(unittest.TestCase):
     def test_a_goal_that_never_ended_beside_one_sent_at_the_same_time(self):
         # The HAL killed mid-goal: its goal has no result (a chaos match's report stopped here).
-        bag = GoalBag([(Goal('a'), 12.0), (Goal('b'), 12.0), (Goal('c'), 3.0)],
-                      [(Result('b'), 14.5), (Result('c'), 5.0)])
+        bag = GoalBag([(goal('a'), 12.0), (goal('b'), 12.0), (goal('c'), 3.0)],
+                      [(result('b'), 14.5), (result('c'), 5.0)])
         self.assertEqual(Match.hal_goal_spans(bag), [(3.0, 5.0), (12.0, 14.5), (12.0, None)])
 
 

@@ -234,18 +234,16 @@ std::size_t Filter::resampledCount(const ParticleSet&, const std::vector<size_t>
 }
 
 void Filter::afterResampling(ParticleSet& set) {
-  if (ctx_.now >= recover_until_) {
-    if (cfg_.jitter_xy <= 0.0) return;
-    for (std::size_t i = 0; i < set.size(); ++i) {
-      set.x[i] += cfg_.jitter_xy * rng_.gaussian();
-      set.y[i] += cfg_.jitter_xy * rng_.gaussian();
-    }
-    return;
-  }
+  // Recovering: roughen position and heading (the heading is searched for). Otherwise the
+  // position jitter alone keeps a still robot's set from collapsing onto copies of one pose.
+  const bool recovering = ctx_.now < recover_until_;
+  const double xy = recovering ? cfg_.roughen_xy : cfg_.jitter_xy;
+  const double theta = recovering ? cfg_.roughen_theta : 0.0;
+  if (xy <= 0.0 && theta <= 0.0) return;
   for (std::size_t i = 0; i < set.size(); ++i) {
-    set.x[i] += cfg_.roughen_xy * rng_.gaussian();
-    set.y[i] += cfg_.roughen_xy * rng_.gaussian();
-    set.theta[i] = wrapAngle(set.theta[i] + cfg_.roughen_theta * rng_.gaussian());
+    set.x[i] += xy * rng_.gaussian();
+    set.y[i] += xy * rng_.gaussian();
+    if (theta > 0.0) set.theta[i] = wrapAngle(set.theta[i] + theta * rng_.gaussian());
   }
 }
 
