@@ -1,7 +1,7 @@
 // The localization filter on short synthetic beacon runs generated here with a fixed seed
 // (the same model as scripts/bench/data/make_beacon_run.py): tracking, global localization from a
 // uniform cloud, a kidnapped robot recovered without help, a small push followed standing still,
-// a silenced beacon, determinism of a replay with a fixed seed, every MRPT resampling scheme, and
+// a heading turned behind the beacons' back (with a compass, and without one), a silenced beacon, determinism of a replay with a fixed seed, every MRPT resampling scheme, and
 // the KLD-adaptive count.
 #include <gtest/gtest.h>
 
@@ -28,9 +28,12 @@ struct Step {
 };
 
 // A robot weaving over the table at 100 Hz, encoders with 1 % noise and slips, a beacon range
-// every 30 ms (10 mm noise, 2 % long outliers, 5 % dropouts). kidnap_at: teleport the truth.
+// every 30 ms (10 mm noise, 2 % long outliers, 5 % dropouts). kidnap_at: teleport the truth; with
+// kidnap_push or kidnap_turn, push it that far or turn it that much instead, after which the
+// robot stands still for still_for seconds.
 std::vector<Step> makeRun(unsigned seed, double seconds, double kidnap_at = -1.0, int silent_beacon = -1,
-                          double silent_from = 0.0, double silent_to = 0.0, double kidnap_push = 0.0) {
+                          double silent_from = 0.0, double silent_to = 0.0, double kidnap_push = 0.0,
+                          double kidnap_turn = 0.0, double still_for = 1e9) {
   std::mt19937 gen(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -38,15 +41,17 @@ std::vector<Step> makeRun(unsigned seed, double seconds, double kidnap_at = -1.0
   std::vector<Step> run;
   for (int k = 0; k < static_cast<int>(seconds / 0.01); ++k) {
     const double t = k * 0.01;
-    if (kidnap_at > 0 && std::fabs(t - kidnap_at) < 0.005 && kidnap_push > 0.0) {
-      x += x < 1.5 ? kidnap_push : -kidnap_push;  // pushed toward the centre, heading kept
+    const bool pushing = kidnap_push > 0.0 || kidnap_turn != 0.0;
+    if (kidnap_at > 0 && std::fabs(t - kidnap_at) < 0.005 && pushing) {
+      x += x < 1.5 ? kidnap_push : -kidnap_push;  // pushed toward the centre
+      th = std::remainder(th + kidnap_turn, 2 * M_PI);
     } else if (kidnap_at > 0 && std::fabs(t - kidnap_at) < 0.005) {
       x = x < 1.5 ? x + 1.0 : x - 1.0;  // a metre away, turned round
       y = 2.1 - y;
       th = std::remainder(th + 2.5, 2 * M_PI);
     }
     // Pushed: the robot then stands still, as it does while its driver holds on an uncertain pose.
-    const bool pushed = kidnap_push > 0.0 && t >= kidnap_at;
+    const bool pushed = pushing && t >= kidnap_at && t < kidnap_at + still_for;
     const double v = pushed ? 0.0 : 0.5 + 0.2 * std::sin(0.3 * t);
     const double dev = std::remainder(std::atan2(1.05 - y, 1.5 - x) - th, 2 * M_PI);
     const bool near = x < 0.4 || x > 2.6 || y < 0.4 || y > 1.7;
@@ -77,7 +82,9 @@ struct Rig {
   std::shared_ptr<TableModel> table = std::make_shared<TableModel>(3.0, 2.1, 0.0);
   std::shared_ptr<OdometryInput> odom;
   std::shared_ptr<BeaconBelts> beacons;
+  std::shared_ptr<Compass> compass;  // only once addCompass() was called
   std::unique_ptr<Filter> filter;
+  std::mt19937 compass_noise{5};
 
   explicit Rig(FilterConfig fc = {}, double range_std = 0.01) {
     odom = std::make_shared<OdometryInput>(std::vector<OdometryInput::Pair>{{"wheels", 1.0}}, MotionModel{});
@@ -91,7 +98,14 @@ struct Rig {
     filter->addSampler(beacons);
   }
 
-  std::vector<double> probability;  // per step fed
+  // A compass reading the true heading every 100 ms, 0.03 rad of noise.
+  void addCompass() {
+    compass = std::make_shared<Compass>(CompassConfig{});
+    filter->addChecking(compass);
+  }
+
+  std::vector<double> probability;    // per step fed
+  std::vector<double> heading_error;  // [rad] per step fed
 
   // Feeds steps [from, to); returns the position errors.
   std::vector<double> run(const std::vector<Step>& steps, std::size_t from = 0, std::size_t to = SIZE_MAX) {
@@ -100,10 +114,13 @@ struct Rig {
       const Step& s = steps[i];
       odom->addIncrement(0, s.odo, s.t);
       if (s.beacon >= 0) beacons->addRange(s.t, s.beacon, s.range);
+      if (compass && i % 10 == 0)
+        compass->addHeading(s.t, s.truth.theta + 0.03 * std::normal_distribution<double>()(compass_noise));
       filter->update(s.t);
       const Pose2D e = filter->estimate().pose;
       err.push_back(std::hypot(e.x - s.truth.x, e.y - s.truth.y));
       probability.push_back(filter->estimate().probability);
+      heading_error.push_back(std::fabs(wrapAngle(e.theta - s.truth.theta)));
     }
     return err;
   }
@@ -206,6 +223,58 @@ TEST(Filter, FollowsASmallPushStandingStill) {
   EXPECT_GT(maxOf(after, 0, 20), 0.02);  // the push happened
   EXPECT_LT(maxOf(after, 300, after.size()), 0.01) << "not followed within 3 s";
   EXPECT_GT(std::sqrt(rig.filter->estimate().cov[0]), 0.0005) << "the set collapsed onto one pose";
+}
+
+// A wheel slip turns a still robot 0.85 rad without moving it (a chaos match's wheel_slip): the
+// beacons, position only, still agree with the cloud, and they are most of the measurements.
+// The compass says "wrong" at every reading, 28 sigma away, where its likelihood is the outlier
+// floor for every particle: on its own contradiction it must give the set its heading back.
+// Without that the estimate stayed turned for the whole 7 s (and 15 s in the match).
+TEST(Filter, TheCompassAloneTurnsBackAHeadingTheBeaconsCannotSee) {
+  const auto steps = makeRun(21, 14.0, 7.0, -1, 0.0, 0.0, 0.0, 0.85);
+  FilterConfig fc;
+  fc.max_particles = 1000;
+  fc.min_particles = 300;
+  fc.adaptive = true;
+  Rig rig(fc, 0.02);
+  rig.addCompass();
+  rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
+  rig.run(steps, 0, 700);
+  EXPECT_LT(maxOf(rig.heading_error, 200, 700), 0.1);
+  EXPECT_EQ(rig.filter->inputRedraws(), 0u) << "a redraw while the compass agreed";
+  rig.run(steps, 700);
+  EXPECT_GT(rig.heading_error[701], 0.7);  // the turn happened
+  EXPECT_GE(rig.filter->inputRedraws(), 1u);
+  EXPECT_LT(maxOf(rig.heading_error, 700 + 300, steps.size()), 0.1) << "heading not back within 3 s";
+  EXPECT_FALSE(rig.filter->estimate().lost);
+}
+
+// A robot kidnapped and turned round that then stands still (its brain was killed), with no
+// compass: the beacons give the position back at once, but nothing tells the headings apart.
+// In the match, resampled copies drifted to one heading and the filter said "found" 1.4-2.5 rad
+// wrong; the robot then drove off on it (a 2009 chaos match). In this rig the filter instead
+// stayed lost all along without the unknown heading (a driver holding for good). The position
+// must be found while the heading stays unknown, every heading in the set, as long as the robot
+// stands; once it drives, the motion must resolve the heading before the position leaves 5 cm.
+TEST(Filter, AHeadingNothingMeasuredStaysUnknownUntilTheRobotMoves) {
+  const auto steps = makeRun(21, 17.0, 7.0, -1, 0.0, 0.0, 0.5, 2.5, 6.0);
+  FilterConfig fc;
+  fc.max_particles = 1000;
+  fc.min_particles = 300;
+  fc.adaptive = true;
+  Rig rig(fc, 0.02);
+  rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
+  rig.run(steps, 0, 700);
+  const auto still = rig.run(steps, 700, 1300);
+  EXPECT_GE(rig.filter->resets(), 1u);
+  EXPECT_LT(maxOf(still, 300, still.size()), 0.05) << "the position is not back within 3 s";
+  EXPECT_FALSE(rig.filter->estimate().lost) << "a position found is found, the heading unknown";
+  EXPECT_TRUE(rig.filter->headingUnknown());
+  EXPECT_GT(std::sqrt(rig.filter->estimate().set_cov[8]), 1.0) << "the set settled on one heading standing still";
+  const auto driving = rig.run(steps, 1300);
+  EXPECT_LT(maxOf(driving, 0, driving.size()), 0.05) << "the position left 5 cm while the heading was found";
+  EXPECT_FALSE(rig.filter->headingUnknown());
+  EXPECT_LT(maxOf(rig.heading_error, 1300 + 200, steps.size()), 0.1) << "heading not found within 2 s of driving";
 }
 
 // The probability says whether the estimate is within quality_tolerance of the truth: high

@@ -67,6 +67,7 @@ void Filter::setPose(const Pose2D& pose, double std_xy, double std_theta) {
   p_track_ = 1.0 - cfg_.track_hazard;  // a pose given by the user: trusted until the sensors disagree
   restartLikelihoodWatch();
   recover_until_ = -1e300;
+  heading_unknown_ = false;
   estimate_.pose = pose;
   computeEstimate();
 }
@@ -85,6 +86,7 @@ void Filter::setPoseUniform(const Pose2D& pose, double half_xy, double half_thet
   p_track_ = 1.0 - cfg_.track_hazard;  // a pose given by the user: trusted until the sensors disagree
   restartLikelihoodWatch();
   recover_until_ = -1e300;
+  heading_unknown_ = false;
   estimate_.pose = pose;
   computeEstimate();
 }
@@ -99,6 +101,8 @@ void Filter::globalLocalization() {
   }
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = true;
+  heading_unknown_ = cfg_.heading_known_std > 0.0;
+  moved_since_heading_lost_ = false;
   restartLikelihoodWatch();
   computeEstimate();
 }
@@ -114,13 +118,14 @@ void Filter::predictAndUpdate(ParticleSet& set) {
   for (auto& a : advancing_) a->advance(set, ctx_);
   const double s0 = set.weightSum();
   bool monitored = false;
-  for (auto& c : checking_) {
-    if (!c->ready(ctx_)) continue;
-    c->check(set, ctx_);
-    monitored |= c->monitorsLikelihood();
+  for (std::size_t k = 0; k < checking_.size(); ++k) {
+    CheckingInput& c = *checking_[k];
+    if (!c.ready(ctx_)) continue;
+    c.check(set, ctx_);
+    monitored |= c.monitorsLikelihood();
     double predictive, uninformed, nis;
-    if (c->evidence(&predictive, &uninformed)) weighEvidence(predictive, uninformed);
-    if (c->innovation(&nis)) innovations_.emplace_back(ctx_.now, nis);
+    if (c.evidence(&predictive, &uninformed)) weighEvidence(predictive, uninformed);
+    if (c.innovation(&nis)) innovations_.push_back({ctx_.now, nis, k});
   }
   table_->check(set, ctx_);
   const double s1 = set.weightSum();
@@ -150,8 +155,12 @@ void Filter::predictAndUpdate(ParticleSet& set) {
       lost_ = reset_pending_ = true;
     }
   }
+  while (!innovations_.empty() && innovations_.front().time < ctx_.now - cfg_.contradiction_window)
+    innovations_.pop_front();
   if (!lost_ && !reset_pending_ && contradicted()) lost_ = reset_pending_ = true;
   if (reset_pending_ && resetFromSensorsIfPossible()) return;
+  if (!reset_pending_) redrawContradictedInputs();
+  if (heading_unknown_) watchHeading(set);
 
   // MRPT's resampling draws from its global generator: seed it from ours so a fixed ~seed
   // replays identically whatever else in the process uses it.
@@ -160,12 +169,10 @@ void Filter::predictAndUpdate(ParticleSet& set) {
 }
 
 bool Filter::contradicted() {
-  while (!innovations_.empty() && innovations_.front().first < ctx_.now - cfg_.contradiction_window)
-    innovations_.pop_front();
   if (cfg_.contradiction_nis <= 0.0 || innovations_.size() < cfg_.contradiction_count) return false;
   std::vector<double> v;
   v.reserve(innovations_.size());
-  for (const auto& p : innovations_) v.push_back(p.second);
+  for (const auto& p : innovations_) v.push_back(p.nis);
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   const double median = v[v.size() / 2];
   if (median > cfg_.contradiction_nis) {
@@ -177,6 +184,43 @@ bool Filter::contradicted() {
   // reset, while the disagreement lasts.
   if (median > cfg_.roughen_nis) recover_until_ = std::max(recover_until_, ctx_.now + cfg_.contradiction_window);
   return false;
+}
+
+void Filter::redrawContradictedInputs() {
+  if (cfg_.contradiction_nis <= 0.0 || cfg_.input_contradiction_count == 0) return;
+  std::vector<double> v;
+  for (std::size_t k = 0; k < checking_.size(); ++k) {
+    v.clear();
+    for (const auto& p : innovations_)
+      if (p.input == k) v.push_back(p.nis);
+    if (v.size() < cfg_.input_contradiction_count) continue;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    if (v[v.size() / 2] <= cfg_.contradiction_nis) continue;
+    if (!checking_[k]->redraw(set_, ctx_, cfg_.input_reset_fraction)) continue;
+    ++input_redraws_;
+    innovations_.erase(std::remove_if(innovations_.begin(), innovations_.end(), [k](const Innovation& p) { return p.input == k; }),
+                       innovations_.end());
+    recover_until_ = std::max(recover_until_, ctx_.now + cfg_.recovery_time);
+  }
+}
+
+double Filter::travelled() const {
+  double d = 0.0;
+  for (const auto& a : advancing_) d += a->travelled();
+  return d;
+}
+
+void Filter::watchHeading(const ParticleSet& set) {
+  // Weighted circular spread of the headings: std = sqrt(-2 ln R), R the mean resultant length.
+  double sw = 0.0, sc = 0.0, ss = 0.0;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    sw += set.w[i];
+    sc += set.w[i] * std::cos(set.theta[i]);
+    ss += set.w[i] * std::sin(set.theta[i]);
+  }
+  if (!(sw > 0.0)) return;
+  const double r = std::hypot(sc, ss) / sw;
+  if (r > 0.0 && std::sqrt(-2.0 * std::log(std::min(r, 1.0))) < cfg_.heading_known_std) heading_unknown_ = false;
 }
 
 void Filter::weighEvidence(double predictive, double uninformed) {
@@ -222,6 +266,8 @@ bool Filter::resetFromSensorsIfPossible() {
   restartLikelihoodWatch();
   ++resets_;
   recover_until_ = ctx_.now + cfg_.recovery_time;
+  heading_unknown_ = cfg_.heading_known_std > 0.0 && !sampler->samplesHeading();
+  moved_since_heading_lost_ = false;
   return true;
 }
 
@@ -236,14 +282,23 @@ std::size_t Filter::resampledCount(const ParticleSet&, const std::vector<size_t>
 void Filter::afterResampling(ParticleSet& set) {
   // Recovering: roughen position and heading (the heading is searched for). Otherwise the
   // position jitter alone keeps a still robot's set from collapsing onto copies of one pose.
-  const bool recovering = ctx_.now < recover_until_;
+  // An unknown heading on a robot that has stood still since it became unknown: every heading
+  // again. Once the robot moved, the weights have told headings apart: they are kept (roughened).
+  // kStill: below the encoders' noise standing still, above a slow drive's step.
+  constexpr double kStill = 0.0005;  // [m]
+  const double now_travelled = travelled();
+  if (now_travelled - travelled_at_resampling_ >= kStill) moved_since_heading_lost_ = true;
+  travelled_at_resampling_ = now_travelled;
+  const bool redraw_headings = heading_unknown_ && !moved_since_heading_lost_;
+  const bool recovering = ctx_.now < recover_until_ || heading_unknown_;
   const double xy = recovering ? cfg_.roughen_xy : cfg_.jitter_xy;
   const double theta = recovering ? cfg_.roughen_theta : 0.0;
-  if (xy <= 0.0 && theta <= 0.0) return;
+  if (xy <= 0.0 && theta <= 0.0 && !redraw_headings) return;
   for (std::size_t i = 0; i < set.size(); ++i) {
     set.x[i] += xy * rng_.gaussian();
     set.y[i] += xy * rng_.gaussian();
-    if (theta > 0.0) set.theta[i] = wrapAngle(set.theta[i] + theta * rng_.gaussian());
+    if (redraw_headings) set.theta[i] = rng_.uniform(-M_PI, M_PI);
+    else if (theta > 0.0) set.theta[i] = wrapAngle(set.theta[i] + theta * rng_.gaussian());
   }
 }
 
@@ -279,7 +334,8 @@ void Filter::computeEstimate() {
 
   // Found again once the whole set converged, not merely its heaviest cluster.
   const double var_xy = 0.5 * (e.set_cov[0] + e.set_cov[4]);
-  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && e.set_cov[8] < 0.04) {
+  // An unknown heading is not waited for (see heading_known_std): the position is found.
+  if (lost_ && !reset_pending_ && var_xy < cfg_.found_std * cfg_.found_std && (heading_unknown_ || e.set_cov[8] < 0.04)) {
     lost_ = false;
     p_track_ = 0.5;  // converged: whether on the right pose, the next measurements tell
   }

@@ -75,6 +75,21 @@ struct FilterConfig {
   double contradiction_window = 1.0;   // [s]
   std::size_t contradiction_count = 10;
   double roughen_nis = 2.0;            // median above it (not yet lost): roughen the set meanwhile
+  // One input against the rest: when at least input_contradiction_count of one input's own
+  // measurements came in the window and their median is above contradiction_nis while the
+  // whole set's median is not, that input redraws what it measures (input.h) in
+  // input_reset_fraction of the set. A slip that turned the estimate leaves the position right:
+  // the beacons agree and outvote the compass, whose every reading says "wrong".
+  std::size_t input_contradiction_count = 5;
+  double input_reset_fraction = 0.5;
+  // After a reset whose headings were drawn uniformly (beacon ranges give positions only), the
+  // heading is unknown until the weighted set's heading spread falls below heading_known_std
+  // (motion, or a heading input, told the headings apart). Meanwhile, until the robot first
+  // moves, each resampling redraws every heading uniformly (standing still, nothing has told them
+  // apart, and copies drifting to one heading made a confident wrong estimate); the set is
+  // roughened as while recovering; and "found" is judged on the position alone (the driver may
+  // move, and moving resolves the heading). 0 disables.
+  double heading_known_std = 0.1;      // [rad]
   // The estimate is the heaviest cluster's (clusters.h) once the set spreads wider than one cell.
   double cluster_bin_xy = 0.10;    // [m]
   double cluster_bin_theta = 0.20; // [rad]
@@ -126,6 +141,8 @@ class Filter : private ParticleSet::Hooks {
   const TableModel& table() const { return *table_; }
   unsigned long resamplings() const { return resamplings_; }
   unsigned long resets() const { return resets_; }
+  unsigned long inputRedraws() const { return input_redraws_; }
+  bool headingUnknown() const { return heading_unknown_; }
   double wSlow() const { return w_slow_; }
   double wFast() const { return w_fast_; }
 
@@ -160,9 +177,20 @@ class Filter : private ParticleSet::Hooks {
   bool lost_ = true;
   bool reset_pending_ = false;
   double recover_until_ = -1e300;  // roughen after resampling until then
-  std::deque<std::pair<double, double>> innovations_;  // (time, normalized innovation squared)
+  bool heading_unknown_ = false;    // see heading_known_std
+  bool moved_since_heading_lost_ = false;
+  double travelled_at_resampling_ = 0.0;
+  struct Innovation {
+    double time;
+    double nis;          // normalized innovation squared
+    std::size_t input;   // index in checking_
+  };
+  std::deque<Innovation> innovations_;
   bool contradicted();
-  unsigned long resamplings_ = 0, resets_ = 0;
+  void redrawContradictedInputs();
+  double travelled() const;
+  void watchHeading(const ParticleSet& set);
+  unsigned long resamplings_ = 0, resets_ = 0, input_redraws_ = 0;
 };
 
 }  // namespace hal_nodes::mcl

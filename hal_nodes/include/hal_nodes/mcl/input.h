@@ -31,6 +31,9 @@ class AdvancingInput {
   const std::string& name() const { return name_; }
   // Move every particle by the motion accumulated since the last call (no-op if none).
   virtual void advance(ParticleSet& set, const StepContext& ctx) = 0;
+  // The distance the robot has travelled by this input so far [m] (translation, not rotation):
+  // whether the robot moved between two steps.
+  virtual double travelled() const { return 0.0; }
 
  private:
   std::string name_;
@@ -58,6 +61,10 @@ class CheckingInput {
   virtual bool innovation(double* /*nis*/) const { return false; }
   // Drop pending data (on reset).
   virtual void clear() {}
+  // This input's own measurements contradict the cloud while the others agree (a compass after a
+  // slip that turned the estimate, outvoted by the beacons): replace what it measures in
+  // `fraction` of the set by draws from its latest measurement alone. False: it cannot.
+  virtual bool redraw(ParticleSet& /*set*/, const StepContext& /*ctx*/, double /*fraction*/) { return false; }
 
  protected:
   // likelihood^reliability without a pow() when reliability is 1.
@@ -77,6 +84,9 @@ class PoseSampler {
   virtual bool canSample(const StepContext& ctx) const = 0;
   // A pose drawn from the data alone (heading may be drawn uniformly when unobserved).
   virtual Pose2D sample(const StepContext& ctx) = 0;
+  // Whether the proposals' headings are measured; false: drawn uniformly (beacon ranges give
+  // positions only), and only motion or a heading input can tell them apart afterwards.
+  virtual bool samplesHeading() const { return false; }
 };
 
 }  // namespace hal_nodes::mcl

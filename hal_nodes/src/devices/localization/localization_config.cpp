@@ -77,6 +77,11 @@ LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) 
   readInRange(p, "cluster_bin_xy", &fc.cluster_bin_xy, 1e-3, 10.0);
   readInRange(p, "cluster_bin_theta", &fc.cluster_bin_theta, 1e-3, M_PI);
   fc.contradiction_count = static_cast<std::size_t>(p.optionalDouble("contradiction_count", fc.contradiction_count));
+  double input_count = static_cast<double>(fc.input_contradiction_count);
+  readInRange(p, "input_contradiction_count", &input_count, 0.0, 1000.0);
+  fc.input_contradiction_count = static_cast<std::size_t>(input_count);
+  readInRange(p, "input_reset_fraction", &fc.input_reset_fraction, 0.0, 1.0);
+  readInRange(p, "heading_known_std", &fc.heading_known_std, 0.0, M_PI);
 
   // ---- advancing input: odometry ----
   mcl::MotionModel& mm = c.motion;

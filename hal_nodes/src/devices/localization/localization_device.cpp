@@ -30,6 +30,12 @@
 //   ~contradiction_nis [9] ~contradiction_window [1 s] ~contradiction_count [10]: lost (kidnap) when
 //             the median normalized innovation of the last window's measurements is above it;
 //             ~roughen_nis [2]: above this median the set is roughened (a slip to catch up with)
+//   ~input_contradiction_count [5] ~input_reset_fraction [0.5]: one input whose own median is
+//             above ~contradiction_nis redraws what it measures in that share of the set (the
+//             compass after a slip turned the estimate, while the beacons agree)
+//   ~heading_known_std [0.1 rad]: after a reset from beacon ranges (no heading), the heading is
+//             unknown until the set's heading spread is below this; until the robot first moves, its set
+//             keeps every heading and "found" is judged on the position alone (filter.h). 0: off
 //   ~jitter_xy [0.002 m]: position jitter at every resampling, so that a robot standing still
 //             (no motion noise) keeps a cloud that can follow the beacons (filter.h)
 //   ~cluster_bin_xy [0.10 m] ~cluster_bin_theta [0.20 rad]: the grid the cloud is clustered on
@@ -250,6 +256,8 @@ class LocalizationDevice : public Device {
     stat.add("filter steps", updates_);
     stat.add("resamplings", filter_->resamplings());
     stat.add("resets (sensor resetting)", filter_->resets());
+    stat.add("input redraws (one input against the rest)", filter_->inputRedraws());
+    stat.add("heading", filter_->headingUnknown() ? "unknown (not yet resolved by motion)" : "known");
     stat.add("wheel slips detected", odom_->slips());
     stat.add("cost per step [ms]", cost_ms_);
     stat.add("max cost per step [ms]", cost_max_ms_);

@@ -1,5 +1,6 @@
 #include "hal_nodes/mcl/checks/compass.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -32,7 +33,43 @@ double Compass::likelihood(double theta) const {
 void Compass::check(ParticleSet& set, const StepContext&) {
   if (!pending_) return;
   pending_ = false;
-  for (std::size_t i = 0; i < set.size(); ++i) set.w[i] *= tempered(likelihood(set.theta[i]));
+  // Innovation against the cloud's prior heading (offsets from the reading, so no wrap-around
+  // inside the sums): mean offset squared over the reading's variance plus the cloud's.
+  double sw = 0.0, se = 0.0, se2 = 0.0;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const double w = set.w[i], e = wrapAngle(set.theta[i] - yaw_);
+    sw += w;
+    se += w * e;
+    se2 += w * e * e;
+    set.w[i] = w * tempered(likelihood(set.theta[i]));
+  }
+  nis_ = -1.0;
+  if (sw > 0.0) {
+    const double mean = se / sw, var = std::max(0.0, se2 / sw - mean * mean);
+    nis_ = mean * mean / (sigma_ * sigma_ + var);
+  }
+}
+
+bool Compass::innovation(double* nis) const {
+  if (nis_ < 0.0) return false;
+  *nis = nis_;
+  return true;
+}
+
+bool Compass::redraw(ParticleSet& set, const StepContext& ctx, double fraction) {
+  if (!(sigma_ > 0.0)) return false;  // no reading yet
+  // A systematic share of the set (every k-th particle): the others keep their heading, so a
+  // compass disturbed for a while (motors) is outweighed again once it reads true.
+  const std::size_t n = set.size();
+  const auto m = static_cast<std::size_t>(std::round(std::clamp(fraction, 0.0, 1.0) * static_cast<double>(n)));
+  if (m == 0) return false;
+  const double step = static_cast<double>(n) / static_cast<double>(m);
+  for (std::size_t k = 0; k < m; ++k) {
+    const auto i = std::min(n - 1, static_cast<std::size_t>(static_cast<double>(k) * step));
+    set.theta[i] = wrapAngle(yaw_ + sigma_ * ctx.rng->gaussian());
+  }
+  nis_ = -1.0;
+  return true;
 }
 
 }  // namespace hal_nodes::mcl

@@ -110,6 +110,7 @@ void OdometryInput::advance(ParticleSet& set, const StepContext& ctx) {
     s.slipped = false;
     s.delta = {0, 0, 0};
   }
+  travelled_ += std::hypot(d.x, d.y);
   model_.apply(set, d, *ctx.rng, all_slipped);
 }
 

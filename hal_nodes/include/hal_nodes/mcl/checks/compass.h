@@ -3,6 +3,9 @@
 // sigma from the measurement's variance when it has one, else ~std. A compass near motors is
 // disturbed in bursts, hence the outlier term and a reliability below 1 in the configs, and a
 // minimum interval between applied readings (successive readings are not independent).
+// A heading far outside the cloud weighs every particle at the outlier floor, so it cannot move
+// the cloud: the filter then watches the compass's own innovations, and when they say "wrong"
+// for a window while the beacons agree, redraw() gives part of the set the compass's heading.
 #pragma once
 
 #include "hal_nodes/mcl/input.h"
@@ -24,6 +27,8 @@ class Compass : public CheckingInput {
   bool ready(const StepContext&) const override { return pending_; }
   void check(ParticleSet& set, const StepContext& ctx) override;
   void clear() override { pending_ = false; }
+  bool innovation(double* nis) const override;
+  bool redraw(ParticleSet& set, const StepContext& ctx, double fraction) override;
   // The likelihood of one heading (exposed for tests).
   double likelihood(double theta) const;
 
@@ -31,6 +36,7 @@ class Compass : public CheckingInput {
   CompassConfig cfg_;
   bool pending_ = false;
   double yaw_ = 0.0, sigma_ = 0.0, last_applied_ = -1e300;
+  double nis_ = -1.0;  // of the reading just applied (-1: none)
 };
 
 }  // namespace hal_nodes::mcl

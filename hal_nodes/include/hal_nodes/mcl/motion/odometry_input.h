@@ -40,6 +40,7 @@ class OdometryInput : public AdvancingInput {
   // The combined increment waiting to be applied (zero if none).
   Pose2D pending() const;
   void advance(ParticleSet& set, const StepContext& ctx) override;
+  double travelled() const override { return travelled_; }
   const MotionModel& model() const { return model_; }
   // Increments found slipping so far, all pairs.
   std::size_t slips() const { return slips_; }
@@ -64,6 +65,7 @@ class OdometryInput : public AdvancingInput {
   std::vector<State> pairs_;
   MotionModel model_;
   std::size_t slips_ = 0;
+  double travelled_ = 0.0;  // [m] sum of the applied increments' translations
 };
 
 }  // namespace hal_nodes::mcl
