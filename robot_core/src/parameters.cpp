@@ -118,6 +118,12 @@ std::string requireString(const ros::NodeHandle& pnh, const std::string& name) {
   return rules::toString(v, qualified(pnh, name));
 }
 
+std::string renamed(const ros::NodeHandle& pnh, const std::string& now, const std::string& old) {
+  if (pnh.hasParam(now) || !pnh.hasParam(old)) return now;
+  ROS_WARN("%s is now called %s: rename it in the config", qualified(pnh, old).c_str(), qualified(pnh, now).c_str());
+  return old;
+}
+
 double optionalDouble(const ros::NodeHandle& pnh, const std::string& name, double fallback) {
   XmlRpc::XmlRpcValue v;
   return fetch(pnh, name, &v) ? rules::toNumber(v, qualified(pnh, name)) : fallback;

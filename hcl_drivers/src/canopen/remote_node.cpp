@@ -64,7 +64,6 @@ void RemoteNode::dispatch(const CanFrame& f) {
   auto h = handlers_.find(f.id);
   if (h != handlers_.end()) {
     if (f.rtr) return;  // someone else requesting the same PDO: not data
-    last_heard_ = ageNow();
     if (!h->second(f)) {
       ++malformed_;
       last_error_ = "malformed frame " + transport::toString(f);
@@ -79,8 +78,7 @@ void RemoteNode::dispatch(const CanFrame& f) {
       last_error_ = "malformed heartbeat " + transport::toString(f);
       return;
     }
-    last_heard_ = ageNow();
-    last_heartbeat_ = last_heard_;
+    last_heartbeat_ = ageNow();
     heartbeat_state_ = hb->state;
     state_ = hb->state;
     if (hb->bootUp()) {
@@ -96,7 +94,6 @@ void RemoteNode::dispatch(const CanFrame& f) {
       last_error_ = "malformed SDO response " + transport::toString(f);
       return;
     }
-    last_heard_ = ageNow();
     sdo_response_ = r;
     return;
   }

@@ -33,6 +33,10 @@ void requireInRange(const ros::NodeHandle& pnh, const std::string& name, double 
 void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& value,
                   const std::vector<std::string>& allowed);
 
+// A parameter that was renamed: the name to read. The old name still works while the new one is
+// absent, with a warning naming both, so a team's config keeps starting after an update.
+std::string renamed(const ros::NodeHandle& pnh, const std::string& now, const std::string& old);
+
 // The fully resolved parameter name, for messages.
 std::string qualified(const ros::NodeHandle& pnh, const std::string& name);
 

@@ -13,7 +13,8 @@
 //
 // Parameters (besides ~rate):
 //   ~track_width       [m] required, > 0 (distance between the driven wheels)
-//   ~max_wheel_speed   [m/s] required, > 0; faster commands are scaled down keeping the curvature
+//   ~wheel_speed_clamp [m/s] required, > 0; faster commands are scaled down keeping the curvature
+//                      (the effector's last guard; the driver plans within its own limits/max_wheel_speed)
 //   ~max_acceleration  [m/s^2] per wheel, 0 = none (default 0)
 //   ~cmd_timeout       [s] (default 0.3)
 //   ~teleop_topic      (default /cmd_vel; "" disables teleop)
@@ -46,8 +47,9 @@ class DifferentialDrive : public Effector {
     using namespace hcl_drivers;  // the boards' messages
     track_width_ = requireDouble(ctx.pnh, "track_width");
     requirePositive(ctx.pnh, "track_width", track_width_);
-    max_wheel_speed_ = requireDouble(ctx.pnh, "max_wheel_speed");
-    requirePositive(ctx.pnh, "max_wheel_speed", max_wheel_speed_);
+    const std::string clamp = renamed(ctx.pnh, "wheel_speed_clamp", "max_wheel_speed");
+    wheel_speed_clamp_ = requireDouble(ctx.pnh, clamp);
+    requirePositive(ctx.pnh, clamp, wheel_speed_clamp_);
     max_acceleration_ = optionalDouble(ctx.pnh, "max_acceleration", 0.0);
     requireInRange(ctx.pnh, "max_acceleration", max_acceleration_, 0.0, 1e3);
     cmd_timeout_ = optionalDouble(ctx.pnh, "cmd_timeout", 0.3);
@@ -96,7 +98,7 @@ class DifferentialDrive : public Effector {
     }
     WheelSpeeds target;  // no fresh command: stop (ramped, like any deceleration)
     if (cmd) {
-      target = wheelSpeeds(cmd->linear.x, cmd->angular.z, track_width_, max_wheel_speed_);
+      target = wheelSpeeds(cmd->linear.x, cmd->angular.z, track_width_, wheel_speed_clamp_);
       commanded_ = true;
       last_moving_ = cmd->linear.x != 0.0 || cmd->angular.z != 0.0;
     } else if (commanded_) {
@@ -191,7 +193,7 @@ class DifferentialDrive : public Effector {
   std::atomic<const char*> source_{"none"};  // what drives now; read by diagnose()
   double teleop_timeout_ = 0.5;
   WheelSpeeds current_;
-  double track_width_ = 0.0, max_wheel_speed_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
+  double track_width_ = 0.0, wheel_speed_clamp_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
   unsigned long timeouts_ = 0;
   bool commanded_ = false;
   bool last_moving_ = false;  // the last fresh command asked for motion

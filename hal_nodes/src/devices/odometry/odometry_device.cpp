@@ -14,7 +14,7 @@
 //   ~odom_frame      (default odom)      ~base_frame (default base_link)
 //   ~publish_tf      broadcast odom -> base_frame (default true)
 //   ~max_input_age   [s] older counters make a pair stale (default 0.2)
-//   ~max_wheel_speed [m/s] a larger implied wheel speed is a bad sample: dropped, re-baselined (default 5)
+//   ~plausible_wheel_speed [m/s] a larger implied wheel speed is a bad sample: dropped, re-baselined (default 5)
 //   ~pairs/<name>/   one block per encoder pair:
 //       left, right                encoder topics (hcl_drivers/EncoderCounter), required
 //       left_ticks_per_meter, right_ticks_per_meter   required, non-zero (sign flips a mirrored encoder)
@@ -66,8 +66,9 @@ class OdometryDevice : public Device {
     publish_tf_ = optionalBool(ctx.pnh, "publish_tf", true);
     max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.2);
     requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    max_wheel_speed_ = optionalDouble(ctx.pnh, "max_wheel_speed", 5.0);
-    requirePositive(ctx.pnh, "max_wheel_speed", max_wheel_speed_);
+    const std::string plausible = renamed(ctx.pnh, "plausible_wheel_speed", "max_wheel_speed");
+    plausible_wheel_speed_ = optionalDouble(ctx.pnh, plausible, 5.0);
+    requirePositive(ctx.pnh, plausible, plausible_wheel_speed_);
     for (const auto& name : requireBlockNames(ctx.pnh, "pairs")) {
       ros::NodeHandle p(ctx.pnh, "pairs/" + name);
       Pair pair;
@@ -145,7 +146,7 @@ class OdometryDevice : public Device {
       const double dt = step->dt;
       const double wheel_move = std::max(std::abs(pair.model.left_m_per_tick * step->left_ticks),
                                          std::abs(pair.model.right_m_per_tick * step->right_ticks));
-      if (wheel_move > max_wheel_speed_ * dt + 1e-3) {
+      if (wheel_move > plausible_wheel_speed_ * dt + 1e-3) {
         // Implausible jump (garbled counter, undetected reboot): drop and re-baseline.
         ++pair.rejected;
         ROS_WARN_THROTTLE(1.0, "odometry: pair %s jumped %.3f m in %.3f s, sample dropped", pair.name.c_str(), wheel_move, dt);
@@ -262,7 +263,7 @@ class OdometryDevice : public Device {
   bool publish_tf_ = true;
   bool all_stale_ = false;
   double max_input_age_ = 0.2;
-  double max_wheel_speed_ = 5.0;
+  double plausible_wheel_speed_ = 5.0;
   long steps_ = 0;
 };
 

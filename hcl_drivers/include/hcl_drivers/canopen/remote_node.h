@@ -102,7 +102,6 @@ class RemoteNode {
   unsigned long unknown_ = 0;
   unsigned long sdo_aborts_ = 0;
   unsigned long sdo_timeouts_ = 0;
-  double last_heard_ = -1.0;
   std::function<double()> age_clock_;
   std::atomic<NmtState> heartbeat_state_{NmtState::kUnknown};
   std::atomic<double> last_heartbeat_{-1.0};
