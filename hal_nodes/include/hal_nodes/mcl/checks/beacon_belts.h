@@ -8,7 +8,7 @@
 // range_std_auto the filter learns it from its innovations (the noise of a real receiver is
 // not known in advance).
 //
-// The original work also weighted the intersections of two and three belts: while the
+// Intersections of two and three belts weigh more, to find the robot faster: while the
 // filter is not confident (quality below intersection_below) a particle near the belts of
 // the other beacons' recent ranges gets an extra factor (1 + intersection_gain * m), m in
 // [0, 1] its membership of those belts (two belts: product of two memberships; three: of all).

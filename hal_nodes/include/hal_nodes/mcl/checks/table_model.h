@@ -1,4 +1,4 @@
-// The table model (the original RangeManager): the robot's centre can only be on the table,
+// The table model: the robot's centre can only be on the table,
 // at least `margin` (the robot's radius) from the borders and outside fixed obstacles (each
 // inflated by the margin). As a checking input it makes impossible particles weigh zero at
 // every step; the filter also projects its final estimate into free space with it, samples

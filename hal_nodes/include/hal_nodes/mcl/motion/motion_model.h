@@ -1,5 +1,5 @@
 // Differential-drive odometry noise: the proposal that spreads particles so the cloud does not
-// outrun a slipping robot (the original work's point). Per particle and per increment
+// outrun a slipping robot. Per particle and per increment
 // (ds forward, dl lateral, dtheta in the robot frame):
 //   ds' = ds + N(0, trans_per_trans*|ds| + trans_per_rot*|dtheta|)
 //   dl' = dl + N(0, lateral_per_trans*|ds|)
