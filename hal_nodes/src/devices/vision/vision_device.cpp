@@ -32,6 +32,7 @@
 #include <atomic>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "hal_nodes/device_nodelet.h"
 #include <robot_core/parameter_blocks.h>
@@ -83,26 +84,34 @@ class VisionDevice : public Device {
   }
 
   void refresh() override {
-    const auto img = image_->fresh(max_input_age_);
+    auto img = image_->fresh(max_input_age_);
     if (!img) return setUnavailable("no fresh camera image (age " + std::to_string(image_->age()) + " s)");
     if (img->header.stamp == last_stamp_) return;  // already processed
-    const std::string cam = camera_frame_.empty() ? img->header.frame_id : camera_frame_;
     geometry_msgs::TransformStamped t;
     try {
       // The pose at the image's stamp. The chain's newest link (the odometry) may not have reached
       // that stamp yet: the image then waits for a later refresh, as long as it is fresh, instead
-      // of blocking this thread or failing on a few milliseconds of lag.
-      // A chain of static transforms alone has no newest stamp (0): it holds at every stamp.
-      const ros::Time newest = tf_buffer_.lookupTransform(map_frame_, cam, ros::Time(0)).header.stamp;
-      if (!newest.isZero() && newest < img->header.stamp) {
-        ++waits_for_tf_;
-        if ((img->header.stamp - newest).toSec() <= max_input_age_) return;
-        return setUnavailable("no transform " + map_frame_ + " -> " + cam + " at the image's stamp: the newest is " +
-                              std::to_string((img->header.stamp - newest).toSec()) + " s older");
+      // of blocking this thread or failing on a few milliseconds of lag. The camera's frames
+      // arrive sooner than the odometry's transform, so the newest image is often still ahead of
+      // it at the next refresh too: the image that waited is taken then if the transform has
+      // reached it (taking only the newest left the elements unpublished for seconds).
+      if (!placeable(*img)) {
+        const bool waited_one = waiting_ && waiting_->header.stamp > last_stamp_ &&
+                                (ros::Time::now() - waiting_->header.stamp).toSec() <= max_input_age_ &&
+                                placeable(*waiting_);
+        if (!waited_one) {
+          ++waits_for_tf_;
+          waiting_ = img;
+          return;
+        }
+        img = waiting_;
       }
-      t = tf_buffer_.lookupTransform(map_frame_, cam, img->header.stamp);
+      waiting_.reset();
+      t = tf_buffer_.lookupTransform(map_frame_, frameOf(*img), img->header.stamp);
     } catch (const tf2::TransformException& e) {
-      return setUnavailable("no transform " + map_frame_ + " -> " + cam + ": " + e.what());
+      return setUnavailable("no transform " + map_frame_ + " -> " + frameOf(*img) + ": " + e.what());
+    } catch (const std::runtime_error& e) {  // placeable(): the transform is too far behind
+      return setUnavailable(e.what());
     }
     last_stamp_ = img->header.stamp;
     cv_bridge::CvImageConstPtr cv;
@@ -157,6 +166,20 @@ class VisionDevice : public Device {
   }
 
  private:
+  std::string frameOf(const sensor_msgs::Image& img) const { return camera_frame_.empty() ? img.header.frame_id : camera_frame_; }
+
+  // Whether tf places the camera at the image's stamp now; false: not yet (a few milliseconds
+  // behind). Throws std::runtime_error when the transform is further behind than max_input_age.
+  bool placeable(const sensor_msgs::Image& img) {
+    const std::string cam = frameOf(img);
+    // A chain of static transforms alone has no newest stamp (0): it holds at every stamp.
+    const ros::Time newest = tf_buffer_.lookupTransform(map_frame_, cam, ros::Time(0)).header.stamp;
+    if (newest.isZero() || newest >= img.header.stamp) return true;
+    if ((img.header.stamp - newest).toSec() <= max_input_age_) return false;
+    throw std::runtime_error("no transform " + map_frame_ + " -> " + cam + " at the image's stamp: the newest is " +
+                             std::to_string((img.header.stamp - newest).toSec()) + " s older");
+  }
+
   struct Kind {
     std::string name;
     cv::Scalar lo, hi;
@@ -221,6 +244,7 @@ class VisionDevice : public Device {
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher elements_pub_, debug_pub_;
   ros::Time last_stamp_;
+  LatestValue<sensor_msgs::Image>::ConstPtr waiting_;  // the image that waited for tf at the last refresh
   std::string map_frame_, camera_frame_;
   double hfov_ = 1.0, fx_ = 0, fy_ = 0, cx_ = -1, cy_ = -1, pixel_std_ = 2.0, max_input_age_ = 0.5;
   double table_length_ = 3.0, table_width_ = 2.1;
