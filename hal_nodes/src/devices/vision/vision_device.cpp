@@ -95,18 +95,18 @@ class VisionDevice : public Device {
       // arrive sooner than the odometry's transform, so the newest image is often still ahead of
       // it at the next refresh too: the image that waited is taken then if the transform has
       // reached it (taking only the newest left the elements unpublished for seconds).
-      if (!placeable(*img)) {
-        const bool waited_one = waiting_ && waiting_->header.stamp > last_stamp_ &&
-                                (ros::Time::now() - waiting_->header.stamp).toSec() <= max_input_age_ &&
-                                placeable(*waiting_);
-        if (!waited_one) {
-          ++waits_for_tf_;
-          waiting_ = img;
-          return;
-        }
-        img = waiting_;
+      if (placeable(*img)) {
+        waiting_.reset();
+      } else {
+        auto waited = waiting_;
+        const bool take_waited = waited && waited->header.stamp > last_stamp_ &&
+                                 (ros::Time::now() - waited->header.stamp).toSec() <= max_input_age_ &&
+                                 placeable(*waited);
+        ++waits_for_tf_;
+        waiting_ = img;  // the next refresh's candidate
+        if (!take_waited) return;
+        img = waited;
       }
-      waiting_.reset();
       t = tf_buffer_.lookupTransform(map_frame_, frameOf(*img), img->header.stamp);
     } catch (const tf2::TransformException& e) {
       return setUnavailable("no transform " + map_frame_ + " -> " + frameOf(*img) + ": " + e.what());
