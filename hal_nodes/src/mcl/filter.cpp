@@ -102,7 +102,8 @@ void Filter::globalLocalization() {
   std::fill(set_.w.begin(), set_.w.end(), 1.0);
   lost_ = reset_pending_ = true;
   heading_unknown_ = cfg_.heading_known_std > 0.0;
-  moved_since_heading_lost_ = false;
+  heading_evidence_since_lost_ = false;
+  travelled_at_resampling_ = travelled();
   restartLikelihoodWatch();
   computeEstimate();
 }
@@ -123,6 +124,7 @@ void Filter::predictAndUpdate(ParticleSet& set) {
     if (!c.ready(ctx_)) continue;
     c.check(set, ctx_);
     monitored |= c.monitorsLikelihood();
+    if (c.measuresHeading()) heading_evidence_since_lost_ = true;
     double predictive, uninformed, nis;
     if (c.evidence(&predictive, &uninformed)) weighEvidence(predictive, uninformed);
     if (c.innovation(&nis)) innovations_.push_back({ctx_.now, nis, k});
@@ -267,7 +269,8 @@ bool Filter::resetFromSensorsIfPossible() {
   ++resets_;
   recover_until_ = ctx_.now + cfg_.recovery_time;
   heading_unknown_ = cfg_.heading_known_std > 0.0 && !sampler->samplesHeading();
-  moved_since_heading_lost_ = false;
+  heading_evidence_since_lost_ = false;
+  travelled_at_resampling_ = travelled();
   return true;
 }
 
@@ -282,14 +285,15 @@ std::size_t Filter::resampledCount(const ParticleSet&, const std::vector<size_t>
 void Filter::afterResampling(ParticleSet& set) {
   // Recovering: roughen position and heading (the heading is searched for). Otherwise the
   // position jitter alone keeps a still robot's set from collapsing onto copies of one pose.
-  // An unknown heading on a robot that has stood still since it became unknown: every heading
-  // again. Once the robot moved, the weights have told headings apart: they are kept (roughened).
+  // An unknown heading on a robot that has stood still since it became unknown, with no heading
+  // input heard meanwhile: every heading again. Once the robot moved or a compass read, the
+  // weights have told headings apart: they are kept (roughened).
   // kStill: below the encoders' noise standing still, above a slow drive's step.
   constexpr double kStill = 0.0005;  // [m]
   const double now_travelled = travelled();
-  if (now_travelled - travelled_at_resampling_ >= kStill) moved_since_heading_lost_ = true;
+  if (now_travelled - travelled_at_resampling_ >= kStill) heading_evidence_since_lost_ = true;
   travelled_at_resampling_ = now_travelled;
-  const bool redraw_headings = heading_unknown_ && !moved_since_heading_lost_;
+  const bool redraw_headings = heading_unknown_ && !heading_evidence_since_lost_;
   const bool recovering = ctx_.now < recover_until_ || heading_unknown_;
   const double xy = recovering ? cfg_.roughen_xy : cfg_.jitter_xy;
   const double theta = recovering ? cfg_.roughen_theta : 0.0;
@@ -325,6 +329,14 @@ void Filter::computeEstimate() {
     e.cov = best.cov;
     e.cluster_weight = best.weight;
     e.clusters = clustering_.count();
+  }
+  if (heading_unknown_) {
+    // The heaviest cluster's heading is one guess among all: say so (a uniform heading's variance),
+    // to rviz and to a respawned HAL resuming from the saved pose.
+    for (auto* cov : {&e.cov, &e.set_cov}) {
+      (*cov)[2] = (*cov)[5] = (*cov)[6] = (*cov)[7] = 0.0;
+      (*cov)[8] = std::max((*cov)[8], M_PI * M_PI / 3.0);
+    }
   }
   double x = mean.x, y = mean.y;
   table_->project(x, y);  // the final estimate is possible too

@@ -76,16 +76,17 @@ struct FilterConfig {
   std::size_t contradiction_count = 10;
   double roughen_nis = 2.0;            // median above it (not yet lost): roughen the set meanwhile
   // One input against the rest: when at least input_contradiction_count of one input's own
-  // measurements came in the window and their median is above contradiction_nis while the
-  // whole set's median is not, that input redraws what it measures (input.h) in
+  // measurements came in the window and their median is above contradiction_nis, without the
+  // whole set's median calling for a reset, that input redraws what it measures (input.h) in
   // input_reset_fraction of the set. A slip that turned the estimate leaves the position right:
-  // the beacons agree and outvote the compass, whose every reading says "wrong".
+  // the beacons agree and outvote the compass, whose every reading says "wrong". (The others
+  // may also be silent: the rest of the set keeps its heading, for them to judge later.)
   std::size_t input_contradiction_count = 5;
   double input_reset_fraction = 0.5;
   // After a reset whose headings were drawn uniformly (beacon ranges give positions only), the
   // heading is unknown until the weighted set's heading spread falls below heading_known_std
   // (motion, or a heading input, told the headings apart). Meanwhile, until the robot first
-  // moves, each resampling redraws every heading uniformly (standing still, nothing has told them
+  // moves or a heading input measures, each resampling redraws every heading uniformly (standing still, nothing has told them
   // apart, and copies drifting to one heading made a confident wrong estimate); the set is
   // roughened as while recovering; and "found" is judged on the position alone (the driver may
   // move, and moving resolves the heading). 0 disables.
@@ -178,7 +179,7 @@ class Filter : private ParticleSet::Hooks {
   bool reset_pending_ = false;
   double recover_until_ = -1e300;  // roughen after resampling until then
   bool heading_unknown_ = false;    // see heading_known_std
-  bool moved_since_heading_lost_ = false;
+  bool heading_evidence_since_lost_ = false;  // the robot moved, or a heading input measured
   double travelled_at_resampling_ = 0.0;
   struct Innovation {
     double time;

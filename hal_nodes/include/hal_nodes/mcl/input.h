@@ -51,6 +51,8 @@ class CheckingInput {
   virtual void check(ParticleSet& set, const StepContext& ctx) = 0;
   // True for inputs whose likelihood tracks whether the filter is lost (w_slow/w_fast).
   virtual bool monitorsLikelihood() const { return false; }
+  // True for inputs that measure the heading on their own (a compass), without motion.
+  virtual bool measuresHeading() const { return false; }
   // After check(): the density of the measurement just applied under the cloud (prior-weighted
   // mean of its untempered likelihood) and its density if the pose were unknown. Their ratio is
   // the evidence that the filter tracks the true pose. False: this input gives no such evidence.

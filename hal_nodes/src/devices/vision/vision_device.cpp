@@ -30,6 +30,7 @@
 
 #include <Eigen/Geometry>
 #include <atomic>
+#include <deque>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -84,32 +85,33 @@ class VisionDevice : public Device {
   }
 
   void refresh() override {
-    auto img = image_->fresh(max_input_age_);
-    if (!img) return setUnavailable("no fresh camera image (age " + std::to_string(image_->age()) + " s)");
-    if (img->header.stamp == last_stamp_) return;  // already processed
+    const auto newest = image_->fresh(max_input_age_);
+    if (!newest) return setUnavailable("no fresh camera image (age " + std::to_string(image_->age()) + " s)");
+    if (newest->header.stamp == last_stamp_) return;  // already processed
+    LatestValue<sensor_msgs::Image>::ConstPtr img;
     geometry_msgs::TransformStamped t;
     try {
       // The pose at the image's stamp. The chain's newest link (the odometry) may not have reached
       // that stamp yet: the image then waits for a later refresh, as long as it is fresh, instead
       // of blocking this thread or failing on a few milliseconds of lag. The camera's frames
       // arrive sooner than the odometry's transform, so the newest image is often still ahead of
-      // it at the next refresh too: the image that waited is taken then if the transform has
-      // reached it (taking only the newest left the elements unpublished for seconds).
-      if (placeable(*img)) {
-        waiting_.reset();
-      } else {
-        auto waited = waiting_;
-        const bool take_waited = waited && waited->header.stamp > last_stamp_ &&
-                                 (ros::Time::now() - waited->header.stamp).toSec() <= max_input_age_ &&
-                                 placeable(*waited);
+      // it at the next refresh too: each refresh takes the newest of the images sampled so far
+      // that tf can place (taking only the newest left the elements unpublished for seconds).
+      if (candidates_.empty() || candidates_.back()->header.stamp < newest->header.stamp) candidates_.push_back(newest);
+      const ros::Time now = ros::Time::now();
+      while (!candidates_.empty() && (candidates_.front()->header.stamp <= last_stamp_ ||
+                                      (now - candidates_.front()->header.stamp).toSec() > max_input_age_))
+        candidates_.pop_front();
+      for (auto it = candidates_.rbegin(); it != candidates_.rend() && !img; ++it)
+        if (placeable(**it)) img = *it;
+      if (!img) {
         ++waits_for_tf_;
-        waiting_ = img;  // the next refresh's candidate
-        if (!take_waited) return;
-        img = waited;
+        return;
       }
+      while (!candidates_.empty() && candidates_.front()->header.stamp <= img->header.stamp) candidates_.pop_front();
       t = tf_buffer_.lookupTransform(map_frame_, frameOf(*img), img->header.stamp);
     } catch (const tf2::TransformException& e) {
-      return setUnavailable("no transform " + map_frame_ + " -> " + frameOf(*img) + ": " + e.what());
+      return setUnavailable("no transform " + map_frame_ + " -> " + frameOf(*newest) + ": " + e.what());
     } catch (const std::runtime_error& e) {  // placeable(): the transform is too far behind
       return setUnavailable(e.what());
     }
@@ -238,13 +240,14 @@ class VisionDevice : public Device {
   }
 
   std::vector<Kind> kinds_;
-  std::atomic<unsigned long> waits_for_tf_{0};  // refreshes whose image was newer than the newest transform
+  std::atomic<unsigned long> waits_for_tf_{0};  // refreshes with no image tf could place yet
   std::shared_ptr<LatestValue<sensor_msgs::Image>> image_;
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher elements_pub_, debug_pub_;
   ros::Time last_stamp_;
-  LatestValue<sensor_msgs::Image>::ConstPtr waiting_;  // the image that waited for tf at the last refresh
+  // Images sampled at earlier refreshes that tf could not place yet, oldest first (fresh ones only).
+  std::deque<LatestValue<sensor_msgs::Image>::ConstPtr> candidates_;
   std::string map_frame_, camera_frame_;
   double hfov_ = 1.0, fx_ = 0, fy_ = 0, cx_ = -1, cy_ = -1, pixel_std_ = 2.0, max_input_age_ = 0.5;
   double table_length_ = 3.0, table_width_ = 2.1;

@@ -33,19 +33,21 @@ double Compass::likelihood(double theta) const {
 void Compass::check(ParticleSet& set, const StepContext&) {
   if (!pending_) return;
   pending_ = false;
-  // Innovation against the cloud's prior heading (offsets from the reading, so no wrap-around
-  // inside the sums): mean offset squared over the reading's variance plus the cloud's.
-  double sw = 0.0, se = 0.0, se2 = 0.0;
+  // Innovation against the cloud's prior heading: the circular mean of the offsets from the
+  // reading, squared, over the reading's variance plus the cloud's circular variance (a cloud
+  // turned round, split across +-pi, has a mean offset of pi, not 0).
+  double sw = 0.0, sc = 0.0, ss = 0.0;
   for (std::size_t i = 0; i < set.size(); ++i) {
-    const double w = set.w[i], e = wrapAngle(set.theta[i] - yaw_);
+    const double w = set.w[i], e = set.theta[i] - yaw_;
     sw += w;
-    se += w * e;
-    se2 += w * e * e;
+    sc += w * std::cos(e);
+    ss += w * std::sin(e);
     set.w[i] = w * tempered(likelihood(set.theta[i]));
   }
   nis_ = -1.0;
   if (sw > 0.0) {
-    const double mean = se / sw, var = std::max(0.0, se2 / sw - mean * mean);
+    const double mean = std::atan2(ss, sc), r = std::hypot(sc, ss) / sw;
+    const double var = r > 0.0 ? -2.0 * std::log(std::min(r, 1.0)) : 1e6;  // the wrapped normal's
     nis_ = mean * mean / (sigma_ * sigma_ + var);
   }
 }

@@ -27,6 +27,7 @@ class Compass : public CheckingInput {
   bool ready(const StepContext&) const override { return pending_; }
   void check(ParticleSet& set, const StepContext& ctx) override;
   void clear() override { pending_ = false; }
+  bool measuresHeading() const override { return true; }
   bool innovation(double* nis) const override;
   bool redraw(ParticleSet& set, const StepContext& ctx, double fraction) override;
   // The likelihood of one heading (exposed for tests).
