@@ -259,14 +259,32 @@ def first_settled(errors):
     return None
 
 
+def first_pose_after_recorder_gap(times, since, recorder_down):
+    """When the recorder was down during [since, since + RECOVER_WITHIN] and the bag holds no
+    pose for more than a second of it: the first pose recorded after that gap, else None."""
+    for a, b in recorder_down:
+        if a > since + RECOVER_WITHIN or b < since:
+            continue
+        k = bisect.bisect_left(times, max(since, a))
+        previous = times[k - 1] if k > 0 else max(since, a)
+        for t in times[k:]:
+            if t > b + RECOVER_WITHIN:
+                break
+            if t - previous > 1.0:
+                return t
+            previous = t
+    return None
+
+
 def recoveries(m, faults, end):
     """[(fault, since, back or None, worst)] for each injected fault that ended RECOVER_WITHIN
     before the match end: when the localization had to be back from (its end; after a HAL or HCL
-    restart, the restarted HAL's first pose), when it was back within RECOVERED_M for SETTLED,
-    and the worst error meanwhile."""
+    restart, the restarted HAL's first pose; when the recorder was down meanwhile, its first pose
+    recorded again), when it was back within RECOVERED_M for SETTLED, and the worst error meanwhile."""
     out = []
     errors = errors_against_truth(m.poses('/mcl/pose'), m.poses('/sim/ground_truth'))
     times = [t for t, _, _ in errors]
+    recorder_down = restart_windows(faults, '/record', 0.0, RECORDER_RESTART)
     for f in faults:
         if f['outcome'].startswith(('REFUSED', 'FAILED')) or end is None or f['end'] + RECOVER_WITHIN > end:
             continue
@@ -274,6 +292,9 @@ def recoveries(m, faults, end):
         since = f['end']
         if f['kind'] == 'kill' and f.get('target') in ('/hal', '/hcl') and i < len(times):
             since = times[i]  # from the restarted HAL's first pose: it loads its devices first
+        back_on = first_pose_after_recorder_gap(times, since, recorder_down)
+        if back_on is not None:
+            since = back_on  # the bag cannot tell before: judged from the restarted recorder's first pose
         back = first_settled(errors[i:])
         worst = max((e for t, e, _ in errors[i:] if t <= since + RECOVER_WITHIN), default=float('nan'))
         out.append((f, since, back, worst))

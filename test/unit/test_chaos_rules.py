@@ -205,6 +205,25 @@ class EndAndRecoveryTest(unittest.TestCase):
         v = inv.robot_recovers(m, [fault('kidnap', start=10.0, end=10.0)], 90.0, 0.0)
         self.assertIn('not recovered', v[0][1])
 
+    # A Logion chaos match: /brain killed 48.2-57.8 s, the recorder killed 56.7 s and back 62.5 s;
+    # the bag holds no pose from 56.6 s to 67.0 s, then poses within 2 cm. It was flagged "not
+    # recovered ... back 9.2 s after; worst nan m": the bag could not tell.
+    def recorder_gap(self, error_after):
+        truth = [(t / 10.0, t / 100.0, 1.0, 0.0) for t in range(0, 900)]
+        estimate = [(t, x + error_after(t), y, a) for t, x, y, a in truth[1:-1] if not 56.6 < t < 67.0]
+        return FakeMatch(poses={'/mcl/pose': estimate, '/sim/ground_truth': truth})
+
+    GAP_FAULTS = [fault('kill', '/brain', start=48.2, end=57.8), fault('kill', '/record', start=56.7, end=62.5)]
+
+    def test_the_recorder_down_after_a_fault_is_judged_from_its_first_pose(self):
+        m = self.recorder_gap(lambda t: 0.02)
+        self.assertEqual(inv.robot_recovers(m, self.GAP_FAULTS, 90.0, 0.0), [])
+
+    def test_still_off_after_the_recorder_is_back_fails(self):
+        m = self.recorder_gap(lambda t: 0.2 if t < 75.0 else 0.0)
+        v = inv.robot_recovers(m, self.GAP_FAULTS, 90.0, 0.0)
+        self.assertTrue(any('not recovered' in text and 'kill /brain' in text for _, text in v), v)
+
 
 if __name__ == '__main__':
     unittest.main()
