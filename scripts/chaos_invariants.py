@@ -206,6 +206,18 @@ def quiet_board_topics(f, config):
     return derived + ('/%s/' % f['target'],)
 
 
+def merged(windows, join_within):
+    """The union of the windows, joining two that are less than join_within apart: a gap that one
+    excuse after another covers (the HAL restarted, then the recorder) is excused."""
+    out = []
+    for a, b in sorted(windows):
+        if out and a - join_within <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], b))
+        else:
+            out.append((a, b))
+    return out
+
+
 def nothing_lost(m, faults, start, end, t0, config):
     out = []
     dead = dead_windows(faults)
@@ -227,6 +239,7 @@ def nothing_lost(m, faults, start, end, t0, config):
         allowed = max(GAP_MIN, GAP_PERIODS * period)
         excused = excused_for.get(owner(topic), []) + everything + \
             [(a, b + RESTART_ALLOWANCE) for fragments, a, b in quiet if any(p in topic for p in fragments)]
+        excused = merged(excused, allowed)
         for a, b in zip([start] + times, times + [end]):
             if b - a <= allowed:
                 continue

@@ -144,6 +144,24 @@ class LostTest(unittest.TestCase):
         # Slower than real time still allows the wall seconds, never fewer.
         self.assertEqual(len(inv.nothing_lost(m, [dict(kill, factor=0.5)], 0.0, 90.0, 0.0, {})), 1)
 
+    # A Logion chaos match: /hal killed 32.3-35.9 s (factor 3.15), then the recorder 38.9-45.1 s
+    # (factor 4.45); the rangers' topics are missing from the bag 32.2-52.9 s. Neither restart
+    # alone covers that gap, one after the other they do.
+    HAL_THEN_RECORDER = [dict(fault('kill', '/hal', 32.284, 35.934), factor=3.15),
+                         dict(fault('kill', '/record', 38.931, 45.111), factor=4.45)]
+
+    def test_one_restart_after_another_excuses_the_gap_they_cover(self):
+        m = FakeMatch({'/hal/rangers/front': self.stream(0, 90, gap=(32.19, 52.9))})
+        self.assertEqual(inv.nothing_lost(m, self.HAL_THEN_RECORDER, 0.0, 90.0, 0.0, {}), [])
+
+    def test_a_gap_beyond_the_restarts_is_still_lost(self):
+        m = FakeMatch({'/hal/rangers/front': self.stream(0, 90, gap=(32.19, 52.9))})
+        only_hal = self.HAL_THEN_RECORDER[:1]
+        self.assertEqual(len(inv.nothing_lost(m, only_hal, 0.0, 90.0, 0.0, {})), 1)
+        apart = [self.HAL_THEN_RECORDER[0], dict(fault('kill', '/record', 60.0, 62.0), factor=1.0)]
+        m = FakeMatch({'/hal/rangers/front': self.stream(0, 90, gap=(32.19, 61.0))})
+        self.assertEqual(len(inv.nothing_lost(m, apart, 0.0, 90.0, 0.0, {})), 1)
+
     def test_another_dead_process_does_not(self):
         m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 33))})
         self.assertEqual(len(inv.nothing_lost(m, [fault('kill', '/brain', 30.0, 31.0)], 0.0, 90.0, 0.0, {})), 1)
