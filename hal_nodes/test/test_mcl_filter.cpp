@@ -126,6 +126,15 @@ struct Rig {
   }
 };
 
+// The robots' set: adaptive (KLD), 300 to 1000 particles.
+FilterConfig adaptiveSet() {
+  FilterConfig fc;
+  fc.max_particles = 1000;
+  fc.min_particles = 300;
+  fc.adaptive = true;
+  return fc;
+}
+
 double rms(const std::vector<double>& e, std::size_t from, std::size_t to) {
   double s = 0;
   for (std::size_t i = from; i < to; ++i) s += e[i] * e[i];
@@ -212,11 +221,7 @@ TEST(Filter, NoticesAShortPushAndRecovers) {
 // must not collapse onto copies of the pre-push pose and stay there (it stayed 22 mm off).
 TEST(Filter, FollowsASmallPushStandingStill) {
   const auto steps = makeRun(21, 14.0, 7.0, -1, 0.0, 0.0, 0.03);
-  FilterConfig fc;
-  fc.max_particles = 1000;
-  fc.min_particles = 300;
-  fc.adaptive = true;
-  Rig rig(fc, 0.02);
+  Rig rig(adaptiveSet(), 0.02);
   rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
   rig.run(steps, 0, 700);
   const auto after = rig.run(steps, 700);
@@ -236,11 +241,7 @@ TEST(Filter, TheCompassAloneTurnsBackAHeadingTheBeaconsCannotSee) {
   for (const double turn : {0.85, 3.0}) {
     SCOPED_TRACE(turn);
     const auto steps = makeRun(21, 14.0, 7.0, -1, 0.0, 0.0, 0.0, turn);
-    FilterConfig fc;
-    fc.max_particles = 1000;
-    fc.min_particles = 300;
-    fc.adaptive = true;
-    Rig rig(fc, 0.02);
+    Rig rig(adaptiveSet(), 0.02);
     rig.addCompass();
     rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
     rig.run(steps, 0, 700);
@@ -263,11 +264,7 @@ TEST(Filter, TheCompassAloneTurnsBackAHeadingTheBeaconsCannotSee) {
 // stands; once it drives, the motion must resolve the heading before the position leaves 5 cm.
 TEST(Filter, AHeadingNothingMeasuredStaysUnknownUntilTheRobotMoves) {
   const auto steps = makeRun(21, 17.0, 7.0, -1, 0.0, 0.0, 0.5, 2.5, 6.0);
-  FilterConfig fc;
-  fc.max_particles = 1000;
-  fc.min_particles = 300;
-  fc.adaptive = true;
-  Rig rig(fc, 0.02);
+  Rig rig(adaptiveSet(), 0.02);
   rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
   rig.run(steps, 0, 700);
   const auto still = rig.run(steps, 700, 1300);
@@ -288,11 +285,7 @@ TEST(Filter, AHeadingNothingMeasuredStaysUnknownUntilTheRobotMoves) {
 // resampling, and the heading stayed unknown until the robot drove).
 TEST(Filter, AResetWithACompassFindsTheHeadingStandingStill) {
   const auto steps = makeRun(21, 13.0, 7.0, -1, 0.0, 0.0, 0.5, 2.5, 6.0);
-  FilterConfig fc;
-  fc.max_particles = 1000;
-  fc.min_particles = 300;
-  fc.adaptive = true;
-  Rig rig(fc, 0.02);
+  Rig rig(adaptiveSet(), 0.02);
   rig.addCompass();
   rig.filter->setPoseUniform({0.3, 1.0, 0.0}, 0.02, 0.02);
   rig.run(steps, 0, 700);

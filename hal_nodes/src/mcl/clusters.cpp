@@ -5,14 +5,23 @@
 
 namespace hal_nodes::mcl {
 
-double circularMean(const ParticleSet& set, const std::vector<int>* labels, int keep) {
-  double sc = 0.0, ss = 0.0;
+HeadingSpread headingSpread(const ParticleSet& set, double from, const std::vector<int>* labels, int keep) {
+  double sw = 0.0, sc = 0.0, ss = 0.0;
   for (std::size_t i = 0; i < set.size(); ++i) {
     if (labels != nullptr && (*labels)[i] != keep) continue;
-    sc += set.w[i] * std::cos(set.theta[i]);
-    ss += set.w[i] * std::sin(set.theta[i]);
+    sw += set.w[i];
+    sc += set.w[i] * std::cos(set.theta[i] - from);
+    ss += set.w[i] * std::sin(set.theta[i] - from);
   }
-  return std::atan2(ss, sc);
+  HeadingSpread out;
+  out.mean = std::atan2(ss, sc);
+  out.resultant = sw > 0.0 ? std::hypot(sc, ss) / sw : 0.0;
+  out.weight = sw;
+  return out;
+}
+
+double circularMean(const ParticleSet& set, const std::vector<int>* labels, int keep) {
+  return headingSpread(set, 0.0, labels, keep).mean;
 }
 
 ClusterStats weightedStats(const ParticleSet& set, double ref, const std::vector<int>* labels, int keep) {

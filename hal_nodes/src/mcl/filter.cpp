@@ -214,14 +214,7 @@ double Filter::travelled() const {
 
 void Filter::watchHeading(const ParticleSet& set) {
   // Weighted circular spread of the headings: std = sqrt(-2 ln R), R the mean resultant length.
-  double sw = 0.0, sc = 0.0, ss = 0.0;
-  for (std::size_t i = 0; i < set.size(); ++i) {
-    sw += set.w[i];
-    sc += set.w[i] * std::cos(set.theta[i]);
-    ss += set.w[i] * std::sin(set.theta[i]);
-  }
-  if (!(sw > 0.0)) return;
-  const double r = std::hypot(sc, ss) / sw;
+  const double r = headingSpread(set).resultant;
   if (r > 0.0 && std::sqrt(-2.0 * std::log(std::min(r, 1.0))) < cfg_.heading_known_std) heading_unknown_ = false;
 }
 

@@ -27,6 +27,14 @@ struct ClusterStats {
 
 // The weighted circular mean heading of the particles labelled `keep` (all when labels is null).
 double circularMean(const ParticleSet& set, const std::vector<int>* labels = nullptr, int keep = 0);
+// The weighted headings measured from `from`: their circular mean (relative to `from`) and mean
+// resultant length R (1: all alike, 0: spread evenly; the wrapped normal's variance is -2 ln R).
+struct HeadingSpread {
+  double mean = 0.0;
+  double resultant = 0.0;
+  double weight = 0.0;  // their weights' sum
+};
+HeadingSpread headingSpread(const ParticleSet& set, double from = 0.0, const std::vector<int>* labels = nullptr, int keep = 0);
 // Weighted mean and covariance of the particles labelled `keep` (all when labels is null), the
 // heading taken relative to `ref_theta` (a cluster across +-pi is not torn apart when ref_theta
 // is near its mean: circularMean(), or a previous estimate, which spares the trigonometry).

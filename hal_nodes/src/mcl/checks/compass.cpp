@@ -1,5 +1,7 @@
 #include "hal_nodes/mcl/checks/compass.h"
 
+#include "hal_nodes/mcl/clusters.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -36,20 +38,14 @@ void Compass::check(ParticleSet& set, const StepContext&) {
   // Innovation against the cloud's prior heading: the circular mean of the offsets from the
   // reading, squared, over the reading's variance plus the cloud's circular variance (a cloud
   // turned round, split across +-pi, has a mean offset of pi, not 0).
-  double sw = 0.0, sc = 0.0, ss = 0.0;
-  for (std::size_t i = 0; i < set.size(); ++i) {
-    const double w = set.w[i], e = set.theta[i] - yaw_;
-    sw += w;
-    sc += w * std::cos(e);
-    ss += w * std::sin(e);
-    set.w[i] = w * tempered(likelihood(set.theta[i]));
-  }
+  const HeadingSpread prior = headingSpread(set, yaw_);
   nis_ = -1.0;
-  if (sw > 0.0) {
-    const double mean = std::atan2(ss, sc), r = std::hypot(sc, ss) / sw;
+  if (prior.weight > 0.0) {
+    const double r = prior.resultant;
     const double var = r > 0.0 ? -2.0 * std::log(std::min(r, 1.0)) : 1e6;  // the wrapped normal's
-    nis_ = mean * mean / (sigma_ * sigma_ + var);
+    nis_ = prior.mean * prior.mean / (sigma_ * sigma_ + var);
   }
+  for (std::size_t i = 0; i < set.size(); ++i) set.w[i] *= tempered(likelihood(set.theta[i]));
 }
 
 bool Compass::innovation(double* nis) const {
