@@ -15,6 +15,11 @@
 #                               report/ROBOT/matches_<UTC time>/ (reports, summary PNG; bags stay on
 #                               remote workers unless FETCH_BAGS=1), win rates; exits non-zero when
 #                               a match broke an invariant
+#   make play [ROBOTS=eurobot2009,logion] [N=20] [SEED=1] [FACTOR=0]  the scoreboard: make matches
+#                               for each robot, then each figure (mean score and its 95 % interval,
+#                               zero scores, win rate against `player`, stalls and idle per match,
+#                               violations) against config/scoreboard.yaml; closing line
+#                               `scoreboard: robots R matches M targets_met T of K`
 #   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [CLUSTER=...] [WORKERS=W] [STORAGE=URL]  an Optuna
 #                               study over config/tune/ROBOT.yaml, SEEDS matches per trial, then
 #                               the best overlay against the shipped config on held-out seeds;
@@ -163,6 +168,13 @@ matches: build
 	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
 	  $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(CLUSTER),--cluster $(CLUSTER)) \
 	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
+
+# The scoreboard: N matches per robot against config/scoreboard.yaml's targets (scripts/scoreboard.py).
+ROBOTS ?= eurobot2009,logion
+.PHONY: play
+play: build
+	@for r in $(subst $(comma),$(space),$(ROBOTS)); do $(SETUP) && $(ROOT)/robot_description/scripts/check_config $$r || exit 1; done
+	$(SETUP) && python3 $(ROOT)/scripts/scoreboard.py --robots $(ROBOTS) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR)
 
 # An Optuna study of config/tune/ROBOT.yaml's parameters (scripts/tune.py).
 .PHONY: tune
