@@ -62,20 +62,29 @@ class ObjectiveTest(unittest.TestCase):
             objective.paired_verdict([row(1)], [row(1), row(2)])
 
 
+#: Every robot with a tune file (config/tune/<robot>.yaml).
+TUNED = sorted(f[:-len('.yaml')] for f in os.listdir(os.path.join(ROOT, 'config', 'tune')) if f.endswith('.yaml'))
+
+
 class SpaceTest(unittest.TestCase):
+    def test_both_robots_can_be_tuned(self):
+        self.assertEqual(TUNED, ['eurobot2009', 'logion'])
+
     def test_every_declared_parameter_is_the_robots(self):
-        params, weights = tune.load_space('eurobot2009')
-        self.assertTrue(params)
-        self.assertEqual(set(weights), set(objective.DEFAULTS))
+        for robot in TUNED:
+            params, weights = tune.load_space(robot)
+            self.assertTrue(params, robot)
+            self.assertEqual(set(weights), set(objective.DEFAULTS), robot)
 
     def test_the_shipped_config_is_the_first_trial(self):
-        params, _ = tune.load_space('eurobot2009')
-        config = robot_config('eurobot2009')
-        point = tune.shipped_point(params, config)
-        self.assertIsNotNone(point, 'a shipped value lies outside its declared range')
-        values = tune.values_of(params, point)
-        for name, value in values.items():
-            self.assertEqual(tune.lookup(config, name), value)
+        for robot in TUNED:
+            params, _ = tune.load_space(robot)
+            config = robot_config(robot)
+            point = tune.shipped_point(params, config)
+            self.assertIsNotNone(point, '%s: a shipped value lies outside its declared range' % robot)
+            values = tune.values_of(params, point)
+            for name, value in values.items():
+                self.assertEqual(tune.lookup(config, name), value, robot)
 
     def test_an_overlay_is_nested_as_the_config(self):
         self.assertEqual(tune.overlay_of({'hal/driver/limits/max_linear_speed': 0.4, 'brain/match2009/approach': 0.2}),
@@ -83,12 +92,13 @@ class SpaceTest(unittest.TestCase):
 
     def test_the_driver_accepts_every_speed_and_acceleration_in_range(self):
         # The driver refuses a top speed it cannot stop from within avoidance/braking_distance.
-        params, _ = tune.load_space('eurobot2009')
-        config = robot_config('eurobot2009')
-        ranges = {p['name']: p for p in params}
-        speed = ranges['hal/driver/limits/max_linear_speed']['high']
-        accel = ranges['hal/driver/limits/max_linear_accel']['low']
-        self.assertLessEqual(speed ** 2 / (2 * accel), config['hal']['driver']['avoidance']['braking_distance'])
+        for robot in TUNED:
+            params, _ = tune.load_space(robot)
+            config = robot_config(robot)
+            ranges = {p['name']: p for p in params}
+            speed = ranges['hal/driver/limits/max_linear_speed']['high']
+            accel = ranges['hal/driver/limits/max_linear_accel']['low']
+            self.assertLessEqual(speed ** 2 / (2 * accel), config['hal']['driver']['avoidance']['braking_distance'], robot)
 
 
 if __name__ == '__main__':
