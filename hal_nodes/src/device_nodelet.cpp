@@ -20,12 +20,12 @@ using robot_core::requirePositive;
 
 DeviceNodeletBase::~DeviceNodeletBase() {
   {
-    std::lock_guard<std::mutex> lk(pace_mutex_);
+    std::lock_guard lk(pace_mutex_);
     shutting_down_ = true;  // no more woken refreshes are posted
   }
   gather_timer_.stop();
   refresh_timer_.stop();
-  diagnostic_timer_.stop();
+  if (reporter_) reporter_->stop();
   deactivated_sub_.shutdown();
   std::lock_guard<std::mutex> lk(refresh_mutex_);
   if (device_) {
@@ -48,9 +48,8 @@ void DeviceNodeletBase::onInit() {
     // streams that wake the device, or each of their readings ends up waiting for its token.
     max_rate_ = optionalDouble(pnh, "max_rate", rate_);
     robot_core::requireInRange(pnh, "max_rate", max_rate_, rate_, 10.0 * rate_);
-    const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 0.25);
+    const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 1.0);
     requirePositive(pnh, "diagnostic_period", diagnostic_period);
-    pnh.setParam("diagnostic_period", diagnostic_period);
     startup_grace_ = optionalDouble(pnh, "startup_grace", 5.0);
     robot_core::requireInRange(pnh, "startup_grace", startup_grace_, 0.0, 600.0);
     required_ = robot_core::optionalBool(pnh, "required", true);
@@ -62,12 +61,9 @@ void DeviceNodeletBase::onInit() {
     device_->init(ctx);
     effector_ = dynamic_cast<Effector*>(device_.get());
 
-    updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
-    updater_->setHardwareID(getName());
-    updater_->add("device", this, &DeviceNodeletBase::diagnose);
-    diagnostic_timer_ = getNodeHandle().createTimer(ros::Duration(0.05), [this](const ros::TimerEvent&) {
-      updater_->update();
-    });
+    reporter_ = std::make_unique<robot_core::DiagnosticReporter>(
+        getNodeHandle(), getName(), "device", getName(), diagnostic_period,
+        [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose(stat); });
     if (effector_)
       deactivated_sub_ = getNodeHandle().subscribe("/effectors/deactivated", 1, &DeviceNodeletBase::onDeactivated, this);
     refresh_timer_ = getNodeHandle().createTimer(ros::Duration(1.0 / rate_), &DeviceNodeletBase::onTimer, this);
@@ -91,7 +87,7 @@ void DeviceNodeletBase::onInit() {
 void DeviceNodeletBase::wake(const ros::Time& stamp) {
   double delay = kGatherQuiet;
   {
-    std::lock_guard<std::mutex> lk(pace_mutex_);
+    std::lock_guard lk(pace_mutex_);
     if (!initialized_ || shutting_down_) return;
     const ros::Time now = ros::Time::now();
     if (wake_posted_) {
@@ -131,7 +127,7 @@ void DeviceNodeletBase::restartGatherTimer(double delay) {
 
 void DeviceNodeletBase::onGathered(const ros::TimerEvent&) {
   {
-    std::lock_guard<std::mutex> lk(pace_mutex_);
+    std::lock_guard lk(pace_mutex_);
     if (!pacer_.woken()) {  // a tick has refreshed meanwhile
       wake_posted_ = false;
       return;
@@ -161,7 +157,7 @@ void DeviceNodeletBase::refreshIfDue(bool tick) {
   }
   const double now = ros::Time::now().toSec();  // the rate meter, like the pacer, counts ROS time
   {
-    std::lock_guard<std::mutex> lk(pace_mutex_);
+    std::lock_guard lk(pace_mutex_);
     if (!(tick ? pacer_.dueForTick(now) : pacer_.due(now))) return;
     pacer_.ran(now);
   }
@@ -176,7 +172,7 @@ void DeviceNodeletBase::refreshIfDue(bool tick) {
     }
   }
   const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  std::lock_guard<std::mutex> lk(stats_mutex_);
+  std::lock_guard lk(stats_mutex_);
   meter_.tick(now, busy);
   if (!error.empty()) {
     ++refresh_errors_;
@@ -197,7 +193,7 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   const bool available = device_->available(&reason);
   const ros::Time now = ros::Time::now();
   {
-    std::lock_guard<std::mutex> lk(stats_mutex_);
+    std::lock_guard lk(stats_mutex_);
     const double achieved = meter_.rate();
     ever_available_ = ever_available_ || available;
     if (!available && !ever_available_ && (now - started_).toSec() < startup_grace_) {
@@ -223,7 +219,7 @@ void DeviceNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.add("last error", last_error_);
   }
   {
-    std::lock_guard<std::mutex> lk(pace_mutex_);
+    std::lock_guard lk(pace_mutex_);
     stat.add("woken refreshes", woken_refreshes_);                  // run at once for an arriving input
     stat.add("wakes deferred to the rate limit", wakes_deferred_);  // inputs faster than ~max_rate
   }

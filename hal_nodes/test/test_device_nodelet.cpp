@@ -1,5 +1,6 @@
 // The Device framework around a probe effector: refresh at ~rate, unavailability reported,
-// /effectors/deactivated freezes it at once and lifts again, halt() on unload, bad ~rate.
+// /effectors/deactivated freezes it at once and lifts again, halt() on unload, bad ~rate; its
+// status is published at once when its level changes.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -7,8 +8,11 @@
 #include <std_srvs/Trigger.h>
 
 #include <atomic>
+#include <cstdio>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "hal_nodes/device_nodelet.h"
 #include "hal_nodes/effector_supervisor.h"
@@ -41,31 +45,50 @@ class ProbeEffector : public hal_nodes::Effector {
 
 using ProbeNodelet = hal_nodes::DeviceNodelet<ProbeEffector>;
 
-int waitForLevel(const std::string& part, int level, double timeout, std::string* message) {
-  std::mutex m;
-  int seen = -1;
-  std::string msg;
-  ros::Subscriber sub = ros::NodeHandle().subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 100, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
-        for (const auto& s : a->status)
-          if (s.name.find(part) != std::string::npos) {
-            std::lock_guard<std::mutex> lk(m);
-            seen = s.level;
-            msg = s.message;
-          }
-      });
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::WallTime::now() < end) {
-    {
-      std::lock_guard<std::mutex> lk(m);
-      if (seen == level) break;
-    }
-    ros::WallDuration(0.01).sleep();
+// The statuses of a device on /diagnostics, watched from construction on.
+class StatusWatch {
+ public:
+  explicit StatusWatch(const std::string& part) : part_(part) {
+    sub_ = ros::NodeHandle().subscribe<diagnostic_msgs::DiagnosticArray>(
+        "/diagnostics", 100, [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+          for (const auto& s : a->status)
+            if (s.name.find(part_) != std::string::npos) {
+              std::lock_guard<std::mutex> lk(m_);
+              seen_.push_back({ros::WallTime::now(), s.level, s.message});
+            }
+        });
+    ros::WallDuration(0.3).sleep();  // connected before anything is asked of it
   }
-  std::lock_guard<std::mutex> lk(m);
-  if (message) *message = msg;
-  return seen;
-}
+  // Waits up to `timeout` s for a status at `level` that arrived after `since`: when it came
+  // (zero: none came), and its message.
+  ros::WallTime waitFor(int level, double timeout, const ros::WallTime& since, std::string* message) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+    do {
+      {
+        std::lock_guard<std::mutex> lk(m_);
+        for (const auto& s : seen_)
+          if (s.at > since && s.level == level) {
+            if (message) *message = s.message;
+            return s.at;
+          }
+        if (message) *message = seen_.empty() ? "(no status)" : seen_.back().message;
+      }
+      ros::WallDuration(0.005).sleep();
+    } while (ros::WallTime::now() < end);
+    return ros::WallTime();
+  }
+
+ private:
+  struct Seen {
+    ros::WallTime at;
+    int level;
+    std::string message;
+  };
+  std::string part_;
+  std::mutex m_;
+  std::vector<Seen> seen_;
+  ros::Subscriber sub_;
+};
 
 }  // namespace
 
@@ -73,30 +96,40 @@ TEST(DeviceNodelet, RefreshesReportsAndFollowsTheEffectorSwitch) {
   ros::NodeHandle nh;
   hal_nodes::EffectorSupervisor supervisor(nh);
   ros::param::set("/probe_device/rate", 50.0);
+  StatusWatch status("probe_device");
+  ros::param::set("/probe_device/diagnostic_period", 10.0);  // only a change can be published in time
+  const ros::WallTime t_start = ros::WallTime::now();
   auto device = std::make_unique<ProbeNodelet>();
   device->init("/probe_device", nodelet::M_string(), nodelet::V_string());
   ros::WallDuration(1.0).sleep();
   EXPECT_GT(probe.refreshes.load(), 30);
   EXPECT_LT(probe.refreshes.load(), 70);
   std::string message;
-  EXPECT_EQ(waitForLevel("probe_device", diagnostic_msgs::DiagnosticStatus::OK, 1.0, &message),
-            diagnostic_msgs::DiagnosticStatus::OK) << message;
+  EXPECT_FALSE(status.waitFor(diagnostic_msgs::DiagnosticStatus::OK, 1.0, t_start, &message).isZero()) << message;
 
+  // A level change is published at once (within a 0.05 s check), not at the next report.
+  const ros::WallTime t_lost = ros::WallTime::now();
   probe.available = false;
-  EXPECT_EQ(waitForLevel("probe_device", diagnostic_msgs::DiagnosticStatus::ERROR, 1.0, &message),
-            diagnostic_msgs::DiagnosticStatus::ERROR);
+  const ros::WallTime lost_at = status.waitFor(diagnostic_msgs::DiagnosticStatus::ERROR, 2.0, t_lost, &message);
+  ASSERT_FALSE(lost_at.isZero()) << message;
+  std::printf("level change published %.3f s after the device became unavailable\n", (lost_at - t_lost).toSec());
+  EXPECT_LT((lost_at - t_lost).toSec(), 0.2) << "a level change reaches /diagnostics within 0.2 s";
   EXPECT_NE(message.find("probe input missing"), std::string::npos) << message;
+  const ros::WallTime t_back = ros::WallTime::now();
   probe.available = true;
+  const ros::WallTime back_at = status.waitFor(diagnostic_msgs::DiagnosticStatus::OK, 2.0, t_back, &message);
+  ASSERT_FALSE(back_at.isZero()) << message;
+  EXPECT_LT((back_at - t_back).toSec(), 0.2) << "and so does the way back";
 
   std_srvs::Trigger call;
+  const ros::WallTime t_call = ros::WallTime::now();
   ASSERT_TRUE(ros::service::call("/effectors/deactivate", call));
   EXPECT_TRUE(call.response.success);
   const ros::WallTime t0 = ros::WallTime::now();
   while (probe.deactivations == 0 && ros::WallTime::now() - t0 < ros::WallDuration(1.0)) ros::WallDuration(0.001).sleep();
   EXPECT_EQ(probe.deactivations.load(), 1);
   EXPECT_LT((ros::WallTime::now() - t0).toSec(), 0.05) << "deactivation within one 50 Hz period and some";
-  EXPECT_EQ(waitForLevel("probe_device", diagnostic_msgs::DiagnosticStatus::WARN, 1.0, &message),
-            diagnostic_msgs::DiagnosticStatus::WARN);
+  EXPECT_FALSE(status.waitFor(diagnostic_msgs::DiagnosticStatus::WARN, 1.0, t_call, &message).isZero()) << message;
   EXPECT_EQ(message, "deactivated");
 
   ASSERT_TRUE(ros::service::call("/effectors/activate", call));

@@ -16,7 +16,7 @@ using diagnostic_msgs::DiagnosticStatus;
 
 BoardNodeletBase::~BoardNodeletBase() {
   reopen_timer_.stop();
-  diagnostic_timer_.stop();
+  if (reporter_) reporter_->stop();
   if (joined_) LoopScheduler::instance().leave(member_name_);  // no service() runs after this
   if (board_) {
     try {
@@ -30,6 +30,7 @@ BoardNodeletBase::~BoardNodeletBase() {
 void BoardNodeletBase::onInit() {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   member_name_ = getName();
+  double diagnostic_period = 1.0;
   try {
     rate_ = requireDouble(pnh, "rate");
     requirePositive(pnh, "rate", rate_);
@@ -39,23 +40,21 @@ void BoardNodeletBase::onInit() {
     requirePositive(pnh, "reopen_period", reopen_period_);
     required_ = optionalBool(pnh, "required", true);
     loop_ = optionalString(pnh, "loop", "");
-    const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 0.25);
+    diagnostic_period = optionalDouble(pnh, "diagnostic_period", 1.0);
     requirePositive(pnh, "diagnostic_period", diagnostic_period);
-    pnh.setParam("diagnostic_period", diagnostic_period);  // read by diagnostic_updater
+    const int failures_for_error = optionalInt(pnh, "failures_for_error", 3);
+    requireInRange(pnh, "failures_for_error", failures_for_error, 1, 1000);
+    failures_for_error_ = static_cast<unsigned long>(failures_for_error);
   } catch (const ParameterError& e) {
     NODELET_FATAL("%s", e.what());
     throw;
   }
 
-  updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
-  updater_->setHardwareID(getName());
-  updater_->add("board", this, &BoardNodeletBase::diagnose);
-  // The updater is driven from the callback queue, not the polling thread, so a board
-  // stuck in I/O is still reported.
-  diagnostic_timer_ = getNodeHandle().createTimer(ros::Duration(0.05), [this](const ros::TimerEvent&) {
-    updater_->update();
-  });
   started_ = ros::Time::now();
+  // Checked on the callback queue, not the polling thread, so a board stuck in I/O is still reported.
+  reporter_ = std::make_unique<robot_core::DiagnosticReporter>(
+      getNodeHandle(), getName(), "board", getName(), diagnostic_period,
+      [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose(stat); });
 
   tryOpen();  // a bad parameter of the board itself stops the node here, with its one line
   if (!joined_) {
@@ -85,7 +84,7 @@ void BoardNodeletBase::tryOpen() {
     error = e.what();
   }
   if (!error.empty()) {
-    std::lock_guard<std::mutex> lk(stats_mutex_);
+    std::lock_guard lk(stats_mutex_);
     if (error != open_error_)  // said once per distinct reason, not once a second
       NODELET_ERROR("board %s cannot open its channel: %s; STALE, trying again every %.1f s%s", getName().c_str(),
                     error.c_str(), reopen_period_, required_ ? "" : " (optional board)");
@@ -94,15 +93,18 @@ void BoardNodeletBase::tryOpen() {
     return;
   }
   {
-    std::lock_guard<std::mutex> lk(stats_mutex_);
+    std::lock_guard lk(stats_mutex_);
     if (open_attempts_ > 0) NODELET_INFO("board %s: channel open after %lu failed attempts", getName().c_str(), open_attempts_);
     open_error_.clear();
     board_ = std::move(board);
   }
   LoopScheduler::instance().join(loop_, member_name_, rate_, [this] { serviceOnce(); });
   joined_ = true;
-  NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), rate_,
-               LoopScheduler::instance().loopOf(member_name_).c_str());
+  {
+    std::lock_guard lk(stats_mutex_);
+    joined_loop_ = LoopScheduler::instance().loopOf(member_name_);  // said on /diagnostics
+  }
+  NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), rate_, joined_loop_.c_str());
 }
 
 void BoardNodeletBase::serviceOnce() {
@@ -120,7 +122,7 @@ void BoardNodeletBase::serviceOnce() {
 
   bool halt_now = false;
   {
-    std::lock_guard<std::mutex> lk(stats_mutex_);
+    std::lock_guard lk(stats_mutex_);
     meter_.tick(start.toSec(), busy);
     ++exchanges_;
     if (ok) {
@@ -149,7 +151,15 @@ void BoardNodeletBase::serviceOnce() {
 }
 
 void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  std::lock_guard<std::mutex> lk(stats_mutex_);
+  Board* board = nullptr;
+  {
+    std::lock_guard lk(stats_mutex_);  // the framework's figures; the board's own after it is released
+    board = diagnoseFramework(stat);
+  }
+  if (board) board->diagnose(stat);  // set once, never reset while the reporter runs
+}
+
+Board* BoardNodeletBase::diagnoseFramework(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const ros::Time now = ros::Time::now();
   const double achieved = meter_.rate();
   const double age = last_good_.isZero() ? -1.0 : (now - last_good_).toSec();
@@ -160,14 +170,17 @@ void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
     stat.summaryf(DiagnosticStatus::STALE, "cannot open the board's channel: %s (trying again every %.1f s)",
                   open_error_.c_str(), reopen_period_);
     stat.add("open attempts", open_attempts_);
-    return;
+    return nullptr;
   }
   if (last_good_.isZero() && since_start > stale_timeout_) {
     stat.summaryf(DiagnosticStatus::STALE, "no answer from the board since start: %s", last_error_.c_str());
   } else if (age > stale_timeout_) {
     stat.summaryf(DiagnosticStatus::STALE, "board not answering for %.2f s: %s", age, last_error_.c_str());
+  } else if (consecutive_errors_ >= failures_for_error_) {
+    stat.summaryf(DiagnosticStatus::ERROR, "%lu exchanges in a row failed: %s", consecutive_errors_, last_error_.c_str());
   } else if (consecutive_errors_ > 0) {
-    stat.summaryf(DiagnosticStatus::ERROR, "last exchange failed: %s", last_error_.c_str());
+    stat.summaryf(DiagnosticStatus::WARN, "last exchange failed (%lu in a row, ERROR from %lu): %s", consecutive_errors_,
+                  failures_for_error_, last_error_.c_str());
   } else if (last_good_.isZero()) {
     stat.summary(DiagnosticStatus::WARN, "starting: no answer from the board yet");
   } else if (meter_.count() > 2 && achieved < 0.8 * rate_) {
@@ -175,7 +188,7 @@ void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   } else {
     stat.summary(DiagnosticStatus::OK, "ok");
   }
-  stat.add("loop", LoopScheduler::instance().loopOf(member_name_));
+  stat.add("loop", joined_loop_);
   stat.addf("configured rate [Hz]", "%.2f", rate_);
   stat.addf("achieved rate [Hz]", "%.2f", achieved);
   stat.addf("max period error [ms]", "%.3f", 1e3 * meter_.maxPeriodError(1.0 / rate_));
@@ -186,7 +199,7 @@ void BoardNodeletBase::diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   stat.add("errors", errors_);
   stat.add("consecutive errors", consecutive_errors_);
   stat.add("last error", last_error_);
-  board_->diagnose(stat);
+  return board_.get();
 }
 
 }  // namespace hcl_drivers

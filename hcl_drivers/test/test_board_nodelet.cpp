@@ -1,14 +1,17 @@
 // The Board framework around a probe board: polling at ~rate, errors counted, STALE and a
-// single halt() when the board stops answering, recovery, halt() on unload, bad ~rate.
+// single halt() when the board stops answering, recovery, halt() on unload, bad ~rate, and its
+// /diagnostics: once a period while the level holds, at once when it changes.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
 #include <atomic>
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include "hcl_drivers/board_nodelet.h"
 
@@ -18,6 +21,7 @@ struct Probe {
   std::atomic<int> services{0};
   std::atomic<int> halts{0};
   std::atomic<int> mode{0};  // 0 answer, 1 no answer, 2 throw
+  std::atomic<int> fail_next{0};  // in mode 0: this many services fail first
 };
 Probe probe;
 
@@ -27,7 +31,7 @@ class ProbeBoard : public hcl_drivers::Board {
   bool service() override {
     ++probe.services;
     if (probe.mode == 2) throw std::runtime_error("probe exploded");
-    if (probe.mode == 1) {
+    if (probe.mode == 1 || (probe.mode == 0 && probe.fail_next.fetch_sub(1) > 0)) {
       fail("probe not answering");
       return false;
     }
@@ -51,6 +55,29 @@ class DiagnosticsWatch {
     std::lock_guard<std::mutex> lk(m_);
     return message_;
   }
+  struct Seen {
+    ros::WallTime at;  // when it arrived
+    int level;
+    std::string message;
+  };
+  // Every status received so far.
+  std::vector<Seen> history() {
+    std::lock_guard<std::mutex> lk(m_);
+    return history_;
+  }
+  // Waits up to `timeout` s for a status at `level` that arrived after `since`; when it came.
+  bool waitFor(int level, double timeout, const ros::WallTime& since, ros::WallTime* at = nullptr) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+    do {
+      for (const auto& seen : history())
+        if (seen.at > since && seen.level == level) {
+          if (at) *at = seen.at;
+          return true;
+        }
+      ros::WallDuration(0.01).sleep();
+    } while (ros::WallTime::now() < end);
+    return false;
+  }
   // Waits up to `timeout` s for the level; returns true when seen.
   bool waitFor(int level, double timeout) {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
@@ -68,18 +95,20 @@ class DiagnosticsWatch {
         std::lock_guard<std::mutex> lk(m_);
         level_ = s.level;
         message_ = s.message;
+        history_.push_back({ros::WallTime::now(), s.level, s.message});
       }
   }
   std::string part_;
   std::mutex m_;
   int level_ = -1;
   std::string message_;
+  std::vector<Seen> history_;
   ros::Subscriber sub_;
 };
 
-std::unique_ptr<ProbeNodelet> load(const std::string& name, double rate) {
+std::unique_ptr<ProbeNodelet> load(const std::string& name, double rate, double stale_timeout = 0.3) {
   ros::param::set(name + "/rate", rate);
-  ros::param::set(name + "/stale_timeout", 0.3);
+  ros::param::set(name + "/stale_timeout", stale_timeout);
   auto n = std::make_unique<ProbeNodelet>();
   n->init(name, nodelet::M_string(), nodelet::V_string());
   return n;
@@ -122,6 +151,79 @@ TEST(BoardNodelet, AnExceptionInServiceIsAnErrorNotACrash) {
   EXPECT_NE(diag.message().find("probe exploded"), std::string::npos) << diag.message();
   probe.mode = 0;
   EXPECT_TRUE(diag.waitFor(diagnostic_msgs::DiagnosticStatus::OK, 1.0)) << diag.message();
+}
+
+TEST(BoardNodelet, ReportsOnceAPeriodWhileTheLevelHolds) {
+  using diagnostic_msgs::DiagnosticStatus;
+  probe.mode = 0;
+  probe.fail_next = 0;
+  DiagnosticsWatch diag("probe_cadence");
+  auto board = load("/probe_cadence", 10.0);  // ~diagnostic_period at its default, 1 s
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0)) << diag.message();
+  const ros::WallTime t0 = ros::WallTime::now();
+  ros::WallDuration(3.0).sleep();
+  int steady = 0;
+  for (const auto& seen : diag.history()) steady += seen.at > t0 && seen.level == DiagnosticStatus::OK;
+  EXPECT_GE(steady, 2) << "a status at least once a period while nothing changes";
+  EXPECT_LE(steady, 4) << "no more than once a period while the level holds";
+}
+
+TEST(BoardNodelet, ALevelChangeIsPublishedAtOnce) {
+  using diagnostic_msgs::DiagnosticStatus;
+  probe.mode = 0;
+  probe.fail_next = 0;
+  ros::param::set("/probe_change/diagnostic_period", 10.0);  // only a change can be published in time
+  DiagnosticsWatch diag("probe_change");
+  auto board = load("/probe_change", 100.0);
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0)) << diag.message();
+
+  // The board stops answering: ERROR after ~failures_for_error (3) exchanges, STALE after
+  // ~stale_timeout (0.3 s); each change goes out within a check (0.05 s), not a period.
+  const ros::WallTime t0 = ros::WallTime::now();
+  probe.mode = 1;
+  ros::WallTime stale_at;
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::STALE, 2.0, t0, &stale_at)) << diag.message();
+  ros::WallTime first_change;
+  for (const auto& seen : diag.history())
+    if (seen.at > t0 && seen.level != DiagnosticStatus::OK) {
+      first_change = seen.at;
+      break;
+    }
+  const double latency = (first_change - t0).toSec();
+  std::printf("level change published %.3f s after the board stopped answering\n", latency);
+  EXPECT_LT(latency, 0.2) << "a level change reaches /diagnostics within 0.2 s";
+
+  const ros::WallTime t1 = ros::WallTime::now();
+  probe.mode = 0;
+  ros::WallTime ok_at;
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0, t1, &ok_at)) << diag.message();
+  EXPECT_LT((ok_at - t1).toSec(), 0.2) << "back to OK within 0.2 s";
+}
+
+TEST(BoardNodelet, TwoFailedExchangesInARowAreAWarningNotAnError) {
+  using diagnostic_msgs::DiagnosticStatus;
+  probe.mode = 0;
+  probe.fail_next = 0;
+  DiagnosticsWatch diag("probe_flaky");
+  // 10 Hz: each failure spans two checks; never STALE within these few failures.
+  auto board = load("/probe_flaky", 10.0, 5.0);
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0)) << diag.message();
+  const ros::WallTime t0 = ros::WallTime::now();
+  probe.fail_next = 2;
+  ros::WallTime warned;
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::WARN, 1.0, t0, &warned)) << "two failures in a row are seen: " << diag.message();
+  EXPECT_TRUE(diag.waitFor(DiagnosticStatus::OK, 1.0, warned)) << diag.message();
+  for (const auto& seen : diag.history()) {
+    if (seen.at > t0) {
+      EXPECT_LT(seen.level, DiagnosticStatus::ERROR) << "two failed exchanges called: " << seen.message;
+    }
+  }
+
+  const ros::WallTime t1 = ros::WallTime::now();
+  probe.fail_next = 4;  // from the third, an ERROR
+  ros::WallTime erred;
+  ASSERT_TRUE(diag.waitFor(DiagnosticStatus::ERROR, 1.5, t1, &erred)) << diag.message();
+  EXPECT_TRUE(diag.waitFor(DiagnosticStatus::OK, 1.5, erred)) << diag.message();
 }
 
 TEST(BoardNodelet, NonPositiveRateIsRefused) {

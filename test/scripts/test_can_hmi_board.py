@@ -64,7 +64,7 @@ class HmiBoardTest(unittest.TestCase):
             stale_after = time.monotonic() - t0
             self.assertIsNotNone(s, 'a silent board never reported STALE')
             self.assertIn('no heartbeat', s.message)
-            # ~stale_timeout (PDOs) is 2.0 s; the heartbeat timeout 0.2 s plus the 0.25 s diagnostics period.
+            # ~stale_timeout (PDOs) is 2.0 s; the heartbeat timeout 0.2 s, and a level change is said at once.
             self.assertLess(stale_after, 1.5, 'reported only after %.2f s' % stale_after)
             m = self.state.wait_for(lambda m: not m.node.answering, 1.5 - (time.monotonic() - t0))
             self.assertIsNotNone(m, 'commands still accepted without a heartbeat')

@@ -117,12 +117,16 @@ class I2cBoardsTest(unittest.TestCase):
     def test_9_dead_emulator_goes_stale_and_the_motor_is_halted(self):
         subprocess.check_call(['rosnode', 'kill', '/sim/firmware'], stdout=subprocess.DEVNULL)
         killed = time.monotonic()
-        time.sleep(1.5)
-        statuses = self.latest_status(killed + 1.0)
-        for board in RATES:
-            found = [s for n, s in statuses.items() if 'hcl/%s:' % board in n]
-            self.assertTrue(found)
-            self.assertIn(found[0].level, (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), board)
+
+        def every_board_named():
+            # The newest status of each board since the kill: a level change is said at once,
+            # then once a second (~diagnostic_period).
+            statuses = self.latest_status(killed)
+            found = {b: [s for n, s in statuses.items() if 'hcl/%s:' % b in n] for b in RATES}
+            return all(f and f[0].level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE) for f in found.values())
+        self.assertTrue(wait_for(every_board_named, 3.0, step=0.05),
+                        'not every board ERROR or STALE: %s' % {n: (s.level, s.message) for n, s in
+                                                              self.latest_status(killed).items()})
         out = subprocess.run(['rosnode', 'ping', '-c', '1', '/hcl'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         self.assertEqual(out.returncode, 0, out.stdout.decode())
 

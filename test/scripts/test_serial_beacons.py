@@ -75,9 +75,9 @@ class SerialBeaconsTest(unittest.TestCase):
         # Garbage after every 2nd message and every 5th cut short: the driver names the bad input
         # at ERROR (it stays so while it lasts, and for 1 s after) and keeps every valid message.
         t0 = time.monotonic()
-        time.sleep(1.0)
+        # A level that holds is said once a second (~diagnostic_period): the next one after t0.
+        self.assertTrue(wait_for(lambda: any('hcl/beacons:' in n for n in self.statuses(t0)), 2.5, step=0.05))
         st = [s for n, s in self.statuses(t0).items() if 'hcl/beacons:' in n]
-        self.assertTrue(st)
         self.assertEqual(st[0].level, DiagnosticStatus.ERROR, st[0].message)
         self.assertIn('bad input on', st[0].message)
         self.assertIn('garbage byte(s)', st[0].message)
@@ -88,10 +88,12 @@ class SerialBeaconsTest(unittest.TestCase):
     def test_9_receiver_gone_is_reported_and_nothing_crashes(self):
         subprocess.check_call(['rosnode', 'kill', '/sim/firmware'], stdout=subprocess.DEVNULL)
         killed = time.monotonic()
-        time.sleep(1.5)
-        st = [s for n, s in self.statuses(killed + 1.0).items() if 'hcl/beacons:' in n]
-        self.assertTrue(st)
-        self.assertIn(st[0].level, (DiagnosticStatus.ERROR, DiagnosticStatus.STALE), st[0].message)
+
+        def named():
+            st = [s for n, s in self.statuses(killed).items() if 'hcl/beacons:' in n]
+            return st and st[0].level in (DiagnosticStatus.ERROR, DiagnosticStatus.STALE)
+        self.assertTrue(wait_for(named, 3.0, step=0.05), 'receiver gone not named: %s' % [
+            (s.level, s.message) for n, s in self.statuses(killed).items() if 'hcl/beacons:' in n])
         out = subprocess.run(['rosnode', 'ping', '-c', '1', '/hcl'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         self.assertEqual(out.returncode, 0, out.stdout.decode())
 

@@ -11,7 +11,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from hal_nodes.msg import ExampleReading
 from hcl_drivers.msg import ExampleBoardState
 from robot_sim.msg import ExampleFirmware
-from test_support import Recorder
+from test_support import Recorder, wait_for
 
 BOARD_RATE = 50.0   # config/skeleton.yaml hcl/example_board/rate
 DEVICE_RATE = 20.0  # config/skeleton.yaml hal/example_device/rate
@@ -92,11 +92,14 @@ class SkeletonTest(unittest.TestCase):
 
     def test_4_diagnostics_report_board_and_device(self):
         t0 = time.monotonic()
-        time.sleep(1.5)
         statuses = {}
-        for _, arr in self.diagnostics.since(t0):
-            for s in arr.status:
-                statuses[s.name] = s
+
+        def both_reported():  # each says its status once a second (~diagnostic_period) while it holds
+            for _, arr in self.diagnostics.since(t0):
+                for s in arr.status:
+                    statuses[s.name] = s
+            return any('example_board' in n for n in statuses) and any('example_device' in n for n in statuses)
+        wait_for(both_reported, 3.0, step=0.05)
         board = [s for n, s in statuses.items() if 'example_board' in n]
         device = [s for n, s in statuses.items() if 'example_device' in n]
         self.assertTrue(board, 'no diagnostics for the board: %s' % sorted(statuses))

@@ -5,14 +5,18 @@
 //
 // Common parameters: ~rate [Hz] (required, > 0), ~max_rate [Hz] (rate .. 10 rate, default the
 // rate: the ceiling of the runs its inputs wake; set it above the rate of the streams that wake
-// the device, see robot_core/loop_pacer.h), ~diagnostic_period [s] (default 0.25),
+// the device, see robot_core/loop_pacer.h), ~diagnostic_period [s] (default 1: the status is
+// published this often while its level stays the same, and at once when it changes,
+// robot_core/diagnostic_reporter.h),
 // ~startup_grace [s] (WARN, not ERROR, while unavailable since start; default 5), ~required
 // (default true; false: an optional device, e.g. the joystick's, that the brain's readiness does
 // not wait for; published as the `required` value of its status).
 #pragma once
 
-#include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <robot_core/diagnostic_reporter.h>
 #include <robot_core/loop_pacer.h>
+#include <robot_core/priority_inheritance_mutex.h>
 #include <robot_core/rate_meter.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -45,9 +49,11 @@ class DeviceNodeletBase : public nodelet::Nodelet {
 
   std::unique_ptr<Device> device_;
   Effector* effector_ = nullptr;  // device_ when it is an effector
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  std::unique_ptr<robot_core::DiagnosticReporter> reporter_;  // checks on ROS time: the simulated clock
   ros::Timer refresh_timer_;  // ticks at ~rate; a tick runs refresh() when the pacer says it is due
-  std::mutex pace_mutex_;
+  // Shared by the real-time refreshes and normal-priority threads (inputs, the diagnostics'
+  // checks): priority inheritance, so a refresh never waits behind a preempted normal thread.
+  robot_core::PriorityInheritanceMutex pace_mutex_;
   robot_core::LoopPacer pacer_{1.0};
   ros::Timer gather_timer_;  // one-shot: a woken refresh, once the waking inputs pause (or a token is there)
   bool wake_posted_ = false;     // gather_timer_ is running...
@@ -57,7 +63,6 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   ros::Time newest_woken_stamp_;  // of the newest input that woke a refresh
   bool initialized_ = false;   // init() done: inputs may wake refresh()
   bool shutting_down_ = false;
-  ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
   ros::Subscriber deactivated_sub_;
   double rate_ = 0.0;
   double max_rate_ = 0.0;  // ~max_rate: the ceiling of woken runs
@@ -66,10 +71,10 @@ class DeviceNodeletBase : public nodelet::Nodelet {
   double startup_grace_ = 5.0;  // [s, ROS time]
   bool required_ = true;
   ros::Time started_;
-  bool ever_available_ = false;
+  bool ever_available_ = false;  // latched by the diagnostics' checks (20 Hz)
 
   std::mutex refresh_mutex_;  // refresh() and deactivate() never interleave
-  mutable std::mutex stats_mutex_;
+  mutable robot_core::PriorityInheritanceMutex stats_mutex_;  // refreshes vs the diagnostics' checks
   robot_core::RateMeter meter_;
   unsigned long refresh_errors_ = 0;
   std::string last_error_;

@@ -6,7 +6,10 @@
 //   ~rate             [Hz] polling rate, required, > 0
 //   ~loop             loop group name; boards naming the same loop share one thread (optional)
 //   ~stale_timeout    [s] no good exchange for this long = STALE (default max(0.3, 3 / rate))
-//   ~diagnostic_period [s] how often /diagnostics is published (default 0.25)
+//   ~diagnostic_period [s] how often /diagnostics is published while the level stays the same
+//                     (default 1.0); a change of level is published at once (robot_core/diagnostic_reporter.h)
+//   ~failures_for_error  failed exchanges in a row that make the board ERROR (default 3); fewer
+//                     are a WARN: one late answer on a busy bus is not a fault
 //   ~required         true (default): the robot is not ready for a match without this board;
 //                     false: an optional board (a camera, a joystick), reported but not waited for.
 //                     Published as the `required` value of the board's /diagnostics status.
@@ -15,7 +18,7 @@
 //                     (default 1.0); the node and its other boards keep running.
 #pragma once
 
-#include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
@@ -25,6 +28,8 @@
 #include <string>
 
 #include "hcl_drivers/board.h"
+#include <robot_core/diagnostic_reporter.h>
+#include <robot_core/priority_inheritance_mutex.h>
 #include <robot_core/rate_meter.h>
 
 namespace hcl_drivers {
@@ -44,10 +49,11 @@ class BoardNodeletBase : public nodelet::Nodelet {
   void tryOpen();
   void serviceOnce();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  // The framework's part of the status (stats_mutex_ held); the board to add its own, if open.
+  Board* diagnoseFramework(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   std::unique_ptr<Board> board_;  // null until its channel opened
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::Timer diagnostic_timer_;  // ROS time: reports follow the simulated clock
+  std::unique_ptr<robot_core::DiagnosticReporter> reporter_;  // checks on ROS time: the simulated clock
   ros::Timer reopen_timer_;      // ROS time, like the polling: the retries follow the simulated clock
   std::mutex open_mutex_;        // one tryOpen() at a time (the callback queue is multi-threaded)
   std::string member_name_;
@@ -58,10 +64,14 @@ class BoardNodeletBase : public nodelet::Nodelet {
   double stale_timeout_ = 0.0;
   double reopen_period_ = 1.0;
   bool required_ = true;
+  unsigned long failures_for_error_ = 3;
   std::string open_error_;  // why the channel could not be opened (empty once open)
+  std::string joined_loop_;  // the loop the board polls on, once open
   unsigned long open_attempts_ = 0;
 
-  mutable std::mutex stats_mutex_;  // guards everything below (loop thread vs diagnostics)
+  // Guards everything below: the real-time loop thread vs the diagnostics' checks (normal
+  // priority), with priority inheritance so the loop never waits behind a preempted check.
+  mutable robot_core::PriorityInheritanceMutex stats_mutex_;
   robot_core::RateMeter meter_;
   ros::Time started_;
   ros::Time last_good_;

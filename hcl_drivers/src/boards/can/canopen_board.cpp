@@ -113,7 +113,7 @@ void CanopenBoard::fillStatus(CanNodeStatus& s) {
   s.sdo_aborts = static_cast<uint32_t>(node_->sdoAborts());
   s.commands_refused = static_cast<uint32_t>(refused_);
   s.last_error = lastError();
-  std::lock_guard<std::mutex> lk(status_mutex_);
+  std::lock_guard lk(status_mutex_);
   status_copy_ = s;
 }
 
@@ -181,7 +181,7 @@ void CanopenBoard::readDeviceName() {
     // node): never fatal; whether the node answers is the PDO exchange's business.
     name = std::string("(not read: ") + e.what() + ")";
   }
-  std::lock_guard<std::mutex> lk(status_mutex_);
+  std::lock_guard lk(status_mutex_);
   device_name_ = name;
 }
 
@@ -221,7 +221,7 @@ void CanopenBoard::halt() {
 void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const auto bs = bus_->status();
   {
-    std::lock_guard<std::mutex> lk(status_mutex_);
+    std::lock_guard lk(status_mutex_);
     stat.add("node id", node_id_);
     stat.add("device name", device_name_);
     stat.add("NMT state", status_copy_.nmt_state);
@@ -255,37 +255,38 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("bus malformed datagrams", bs.malformed);
   stat.add("bus queue overruns", bs.overruns);
   if (!bs.last_error.empty()) stat.add("bus last error", bs.last_error);
-  if (bs.bus_off_count > bus_off_reported_ && bs.state != BusState::kBusOff)
-    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "CAN bus %s was bus-off since the last report (now %s)",
-                       bus_->url().c_str(), transport::toString(bs.state));
-  bus_off_reported_ = bs.bus_off_count;
-  // A reset or a malformed frame is over at once (the driver re-configured the board / dropped
-  // the frame): each is named at ERROR for kTransientHold from the report that first sees it, so
-  // a team (and a bag) sees it on several reports, then the board is OK again.
+  // A bus-off the controller recovered from, a reset or a malformed frame is over at once (the
+  // driver re-configured the board / dropped the frame): each is held at ERROR for kTransientHold
+  // after the last check that saw one more, counted from the start of that episode, so a team
+  // (and a bag) sees it, then the board is OK again. The checks run many times per published
+  // report (robot_core/diagnostic_reporter.h), so nothing here counts "since the last report".
   uint32_t boot_ups, malformed;
   {
-    std::lock_guard<std::mutex> lk(status_mutex_);
+    std::lock_guard lk(status_mutex_);
     boot_ups = status_copy_.boot_ups;
     malformed = status_copy_.malformed_frames;
   }
   const ros::Time now = ros::Time::now();
-  char buf[160];
-  if (reports_ > 0 && boot_ups > boot_ups_reported_) {
-    snprintf(buf, sizeof buf, "the board reset: %u boot-up(s) of node %d (re-configured)", boot_ups - boot_ups_reported_,
-             node_id_);
-    reset_said_ = buf;
-    reset_until_ = now + ros::Duration(kTransientHold);
+  if (checked_) {  // the first check takes the counts as they are: the power-on's, a bus's past
+    bus_off_.see(bs.bus_off_count, now);
+    // Boot-ups before the board first answered are its power-on, not a reset.
+    if (answered_before_) resets_.see(boot_ups, now);
+    malformed_.see(malformed, now);
   }
-  if (reports_ > 0 && malformed > malformed_reported_) {
-    snprintf(buf, sizeof buf, "%u malformed frame(s) from node %d (dropped)", malformed - malformed_reported_, node_id_);
-    malformed_said_ = buf;
-    malformed_until_ = now + ros::Duration(kTransientHold);
-  }
-  if (now < reset_until_) stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, reset_said_);
-  if (now < malformed_until_) stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, malformed_said_);
-  boot_ups_reported_ = boot_ups;
-  malformed_reported_ = malformed;
-  ++reports_;
+  bus_off_.seen = bs.bus_off_count;
+  resets_.seen = boot_ups;
+  malformed_.seen = malformed;
+  checked_ = true;
+  answered_before_ = answered_before_ || answering_;
+  if (bus_off_.shown(now) && bs.state != BusState::kBusOff)
+    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "CAN bus %s was bus-off %lu time(s) (now %s)",
+                       bus_->url().c_str(), bus_off_.count(), transport::toString(bs.state));
+  if (resets_.shown(now))
+    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "the board reset: %lu boot-up(s) of node %d (re-configured)",
+                       resets_.count(), node_id_);
+  if (malformed_.shown(now))
+    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%lu malformed frame(s) from node %d (dropped)",
+                       malformed_.count(), node_id_);
   diagnoseBoard(stat);
 }
 

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <hcl_drivers/CanNodeStatus.h>
+#include <robot_core/priority_inheritance_mutex.h>
 
 #include <atomic>
 #include <functional>
@@ -112,15 +113,27 @@ class CanopenBoard : public Board {
   bool was_answering_ = false;
   std::atomic<unsigned long> refused_{0};
   transport::BusState last_bus_state_ = transport::BusState::kErrorActive;
-  // Bus-off events already shown on /diagnostics. A bus-off the controller recovers from within
-  // a second falls between two 1 Hz reports; the next report still says it happened.
-  unsigned long bus_off_reported_ = 0;
-  uint32_t boot_ups_reported_ = 0, malformed_reported_ = 0;  // at the last /diagnostics report
-  static constexpr double kTransientHold = 1.0;  // [s] a reset or a malformed frame stays ERROR this long
-  ros::Time reset_until_, malformed_until_;
-  std::string reset_said_, malformed_said_;
-  unsigned long reports_ = 0;  // boot-ups before the first report are the power-on, not a reset
-  std::mutex status_mutex_;  // node counters copied for diagnostics/state
+  // A transient diagnose() holds at ERROR (a bus-off recovered from, a reset, malformed frames):
+  // an episode runs while its counter keeps growing, and is shown until kTransientHold after the
+  // last growth. Only the diagnostics' checks touch these, one at a time.
+  static constexpr double kTransientHold = 1.0;  // [s]
+  struct Transient {
+    unsigned long seen = 0;           // the counter at the previous check
+    unsigned long episode_start = 0;  // the counter when the episode began
+    ros::Time until;                  // shown until then
+    void see(unsigned long now_count, const ros::Time& now) {
+      if (now_count <= seen) return;
+      if (!shown(now)) episode_start = seen;
+      until = now + ros::Duration(kTransientHold);
+    }
+    // (A clock that went back, a simulation restarted, ends the episode.)
+    bool shown(const ros::Time& now) const { return now < until && now >= until - ros::Duration(kTransientHold); }
+    unsigned long count() const { return seen - episode_start; }
+  };
+  Transient bus_off_, resets_, malformed_;
+  bool checked_ = false;          // a first check took the counts as they were
+  bool answered_before_ = false;  // the board answered by the previous check: boot-ups are resets from then
+  robot_core::PriorityInheritanceMutex status_mutex_;  // node counters copied for diagnostics/state (loop vs checks)
   CanNodeStatus status_copy_;
 };
 

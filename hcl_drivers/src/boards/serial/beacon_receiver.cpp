@@ -26,6 +26,8 @@
 #include <mutex>
 #include <thread>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/beacon_protocol.h"
 #include "hcl_drivers/transport/serial_port.h"
@@ -116,7 +118,7 @@ class BeaconReceiver : public Board {
   }
 
   bool service() override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     if (!open_) {
       fail(port_error_.empty() ? "port not open yet" : port_error_);
       return false;
@@ -131,7 +133,7 @@ class BeaconReceiver : public Board {
   void halt() override {}  // a receiver: nothing to make safe
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("port", port_->path());
     stat.add("port open", open_ ? "yes" : "no");
     stat.add("reopens", reopens_);
@@ -141,20 +143,25 @@ class BeaconReceiver : public Board {
     stat.add("malformed messages", stats_.malformed);
     stat.add("unknown beacon ids", unknown_ids_);
     // Bad bytes are over at once (the parser resynchronised): named at ERROR for kBadInputHold
-    // from the report that first sees them, then OK again.
+    // after the last of them, counted from the first, then OK again. (The diagnostics check
+    // many times per published report: the counts run over the episode, not since a report.)
     const ros::Time now = ros::Time::now();
     const uint64_t bad = stats_.garbage_bytes + stats_.checksum_errors + stats_.malformed;
-    if (bad > bad_reported_) {
-      char buf[200];
-      snprintf(buf, sizeof buf, "bad input on %s: %lu garbage byte(s), %lu checksum error(s), %lu malformed message(s)",
-               port_->path().c_str(), stats_.garbage_bytes - reported_.garbage_bytes,
-               stats_.checksum_errors - reported_.checksum_errors, stats_.malformed - reported_.malformed);
-      bad_said_ = buf;
-      bad_until_ = now + ros::Duration(kBadInputHold);
+    const ros::Duration hold(kBadInputHold);
+    // (A clock that went back, a simulation restarted, ends the episode.)
+    const auto shown = [&] { return now < bad_until_ && now >= bad_until_ - hold; };
+    if (bad > bad_seen_) {
+      if (!shown()) episode_start_ = seen_;  // a new episode: count from the check before it
+      bad_until_ = now + hold;
     }
-    if (now < bad_until_) stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, bad_said_);
-    bad_reported_ = bad;
-    reported_ = stats_;
+    if (shown())
+      stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
+                         "bad input on %s: %lu garbage byte(s), %lu checksum error(s), %lu malformed message(s)",
+                         port_->path().c_str(), stats_.garbage_bytes - episode_start_.garbage_bytes,
+                         stats_.checksum_errors - episode_start_.checksum_errors,
+                         stats_.malformed - episode_start_.malformed);
+    bad_seen_ = bad;
+    seen_ = stats_;
     // One beacon silent while the receiver hears the others (all silent: the board itself is).
     if (!last_valid_.isZero() && (now - last_valid_).toSec() <= silence_timeout_) {
       std::string silent;
@@ -187,7 +194,7 @@ class BeaconReceiver : public Board {
           continue;
         }
         if (was_open) {
-          std::lock_guard<std::mutex> lk(mutex_);
+          std::lock_guard lk(mutex_);
           ++reopens_;
         }
         was_open = true;
@@ -209,14 +216,14 @@ class BeaconReceiver : public Board {
   }
 
   void setPort(bool open, const std::string& err) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     open_ = open;
     if (!err.empty()) port_error_ = err;
   }
 
   void publish(const std::vector<beacon_protocol::Message>& msgs, const ros::Time& stamp,
                const beacon_protocol::Stats& now, const beacon_protocol::Stats& before) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     // Parser stats restart with the parser at each reopen: accumulate the increments.
     stats_.messages += now.messages - before.messages;
     stats_.garbage_bytes += now.garbage_bytes - before.garbage_bytes;
@@ -253,16 +260,16 @@ class BeaconReceiver : public Board {
   std::unique_ptr<transport::SerialPort> port_;  // used by the reader thread only
   double silence_timeout_ = 1.0;
   double beacon_timeout_ = 0.6;
-  uint64_t bad_reported_ = 0;   // garbage + checksum + malformed counted at the last report
-  beacon_protocol::Stats reported_;
-  static constexpr double kBadInputHold = 1.0;  // [s] bad input stays ERROR this long
+  // Bad input as diagnose() saw it at its previous check, and the episode it holds at ERROR.
+  uint64_t bad_seen_ = 0;  // garbage + checksum + malformed
+  beacon_protocol::Stats seen_, episode_start_;
+  static constexpr double kBadInputHold = 1.0;  // [s] bad input stays ERROR this long after the last
   ros::Time bad_until_;
-  std::string bad_said_;
   ros::Publisher delta_pub_, state_pub_;
   std::atomic<bool> running_{false};
   std::thread reader_;
 
-  std::mutex mutex_;  // reader thread vs loop vs diagnostics
+  robot_core::PriorityInheritanceMutex mutex_;  // reader thread vs loop vs diagnostics' checks
   bool open_ = false;
   std::string port_error_;
   ros::Time last_valid_;
