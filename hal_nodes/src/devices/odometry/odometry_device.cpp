@@ -1,7 +1,7 @@
 // Odometry: dead reckoning from one or more encoder pairs (driven wheels, undriven measuring
 // wheels), each with a reliability weight. Publishes nav_msgs/Odometry on ~topic (/odom) and
-// the odom -> base_link tf, plus each pair's own odometry on ~<pair> (/hal/odometry/<pair>) so
-// localization can weigh the pairs itself.
+// the odom -> base_link tf, plus each pair's own odometry on ~<pair> (/hal/odometry/<pair>),
+// while someone subscribes, for whoever weighs the pairs itself.
 //
 // Each refresh samples the newest counter of every encoder (pull model). A pair takes part
 // while both its counters are fresh; a stale pair drops out, and when it comes back its
@@ -227,7 +227,10 @@ class OdometryDevice : public Device {
     fusion.add(inc, pair.reliability);
     if (stamp > newest) newest = stamp;
     pair.integrator.add(inc);
-    publish(pair.pub, pair.integrator, stamp, pair.speed, pair.turn_rate, false);
+    // A pair's own odometry is for whoever weighs the pairs itself (a tool, a localization of
+    // the team's): /odom is their fusion, the one the robot uses, so a pair is only published
+    // to a subscriber. (Its integrator runs regardless: a subscriber sees the pair's whole path.)
+    if (pair.pub.getNumSubscribers() > 0) publish(pair.pub, pair.integrator, stamp, pair.speed, pair.turn_rate, false);
   }
 
   void publish(ros::Publisher& pub, const PoseIntegrator& integ, const ros::Time& stamp, double v, double w, bool with_tf) {
