@@ -72,6 +72,8 @@ def main():
         log('starting %s (no table in its config: no match to play); Ctrl-C to stop' % args.robot)
         os.execvp('roslaunch', ['roslaunch', launch])
 
+    import bag_parts
+    import run_folders
     own_folder = args.out is None  # `make run`: a folder of its own, `latest` once complete
     if own_folder:
         args.out = run_folders.new_folder(os.path.join(ROOT, 'report', args.robot),
@@ -80,8 +82,6 @@ def main():
     log('this run\'s folder: %s' % args.out)
     bag = os.path.join(args.out, args.robot + '_match.bag')
     png = os.path.join(args.out, args.robot + '_match.png')
-    import bag_parts
-    import run_folders
     for stale in [bag, bag + '.active'] + bag_parts.parts(bag):
         if os.path.exists(stale):
             os.remove(stale)
