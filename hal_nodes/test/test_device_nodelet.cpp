@@ -19,6 +19,9 @@
 
 namespace {
 
+// Times are ROS time, the clock the framework checks and reports on; with no simulated clock in
+// this test it runs with the wall, so the latencies below are what a user sees.
+
 struct Probe {
   std::atomic<int> refreshes{0};
   std::atomic<int> commands_while_inactive{0};
@@ -54,15 +57,15 @@ class StatusWatch {
           for (const auto& s : a->status)
             if (s.name.find(part_) != std::string::npos) {
               std::lock_guard<std::mutex> lk(m_);
-              seen_.push_back({ros::WallTime::now(), s.level, s.message});
+              seen_.push_back({ros::Time::now(), s.level, s.message});
             }
         });
-    ros::WallDuration(0.3).sleep();  // connected before anything is asked of it
+    ros::Duration(0.3).sleep();  // connected before anything is asked of it
   }
   // Waits up to `timeout` s for a status at `level` that arrived after `since`: when it came
   // (zero: none came), and its message.
-  ros::WallTime waitFor(int level, double timeout, const ros::WallTime& since, std::string* message) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  ros::Time waitFor(int level, double timeout, const ros::Time& since, std::string* message) {
+    const ros::Time end = ros::Time::now() + ros::Duration(timeout);
     do {
       {
         std::lock_guard<std::mutex> lk(m_);
@@ -73,14 +76,14 @@ class StatusWatch {
           }
         if (message) *message = seen_.empty() ? "(no status)" : seen_.back().message;
       }
-      ros::WallDuration(0.005).sleep();
-    } while (ros::WallTime::now() < end);
-    return ros::WallTime();
+      ros::Duration(0.005).sleep();
+    } while (ros::Time::now() < end);
+    return ros::Time();
   }
 
  private:
   struct Seen {
-    ros::WallTime at;
+    ros::Time at;
     int level;
     std::string message;
   };
@@ -98,43 +101,43 @@ TEST(DeviceNodelet, RefreshesReportsAndFollowsTheEffectorSwitch) {
   ros::param::set("/probe_device/rate", 50.0);
   StatusWatch status("probe_device");
   ros::param::set("/probe_device/diagnostic_period", 10.0);  // only a change can be published in time
-  const ros::WallTime t_start = ros::WallTime::now();
+  const ros::Time t_start = ros::Time::now();
   auto device = std::make_unique<ProbeNodelet>();
   device->init("/probe_device", nodelet::M_string(), nodelet::V_string());
-  ros::WallDuration(1.0).sleep();
+  ros::Duration(1.0).sleep();
   EXPECT_GT(probe.refreshes.load(), 30);
   EXPECT_LT(probe.refreshes.load(), 70);
   std::string message;
   EXPECT_FALSE(status.waitFor(diagnostic_msgs::DiagnosticStatus::OK, 1.0, t_start, &message).isZero()) << message;
 
   // A level change is published at once (within a 0.05 s check), not at the next report.
-  const ros::WallTime t_lost = ros::WallTime::now();
+  const ros::Time t_lost = ros::Time::now();
   probe.available = false;
-  const ros::WallTime lost_at = status.waitFor(diagnostic_msgs::DiagnosticStatus::ERROR, 2.0, t_lost, &message);
+  const ros::Time lost_at = status.waitFor(diagnostic_msgs::DiagnosticStatus::ERROR, 2.0, t_lost, &message);
   ASSERT_FALSE(lost_at.isZero()) << message;
   std::printf("level change published %.3f s after the device became unavailable\n", (lost_at - t_lost).toSec());
   EXPECT_LT((lost_at - t_lost).toSec(), 0.2) << "a level change reaches /diagnostics within 0.2 s";
   EXPECT_NE(message.find("probe input missing"), std::string::npos) << message;
-  const ros::WallTime t_back = ros::WallTime::now();
+  const ros::Time t_back = ros::Time::now();
   probe.available = true;
-  const ros::WallTime back_at = status.waitFor(diagnostic_msgs::DiagnosticStatus::OK, 2.0, t_back, &message);
+  const ros::Time back_at = status.waitFor(diagnostic_msgs::DiagnosticStatus::OK, 2.0, t_back, &message);
   ASSERT_FALSE(back_at.isZero()) << message;
   EXPECT_LT((back_at - t_back).toSec(), 0.2) << "and so does the way back";
 
   std_srvs::Trigger call;
-  const ros::WallTime t_call = ros::WallTime::now();
+  const ros::Time t_call = ros::Time::now();
   ASSERT_TRUE(ros::service::call("/effectors/deactivate", call));
   EXPECT_TRUE(call.response.success);
-  const ros::WallTime t0 = ros::WallTime::now();
-  while (probe.deactivations == 0 && ros::WallTime::now() - t0 < ros::WallDuration(1.0)) ros::WallDuration(0.001).sleep();
+  const ros::Time t0 = ros::Time::now();
+  while (probe.deactivations == 0 && ros::Time::now() - t0 < ros::Duration(1.0)) ros::Duration(0.001).sleep();
   EXPECT_EQ(probe.deactivations.load(), 1);
-  EXPECT_LT((ros::WallTime::now() - t0).toSec(), 0.05) << "deactivation within one 50 Hz period and some";
+  EXPECT_LT((ros::Time::now() - t0).toSec(), 0.05) << "deactivation within one 50 Hz period and some";
   EXPECT_FALSE(status.waitFor(diagnostic_msgs::DiagnosticStatus::WARN, 1.0, t_call, &message).isZero()) << message;
   EXPECT_EQ(message, "deactivated");
 
   ASSERT_TRUE(ros::service::call("/effectors/activate", call));
-  const ros::WallTime t1 = ros::WallTime::now();
-  while (probe.reactivations == 0 && ros::WallTime::now() - t1 < ros::WallDuration(1.0)) ros::WallDuration(0.001).sleep();
+  const ros::Time t1 = ros::Time::now();
+  while (probe.reactivations == 0 && ros::Time::now() - t1 < ros::Duration(1.0)) ros::Duration(0.001).sleep();
   EXPECT_EQ(probe.reactivations.load(), 1);
 
   device.reset();

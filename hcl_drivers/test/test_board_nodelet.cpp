@@ -17,6 +17,9 @@
 
 namespace {
 
+// Times are ROS time, the clock the framework checks and reports on; with no simulated clock in
+// this test it runs with the wall, so the latencies below are what a user sees.
+
 struct Probe {
   std::atomic<int> services{0};
   std::atomic<int> halts{0};
@@ -56,7 +59,7 @@ class DiagnosticsWatch {
     return message_;
   }
   struct Seen {
-    ros::WallTime at;  // when it arrived
+    ros::Time at;  // when it arrived
     int level;
     std::string message;
   };
@@ -66,24 +69,24 @@ class DiagnosticsWatch {
     return history_;
   }
   // Waits up to `timeout` s for a status at `level` that arrived after `since`; when it came.
-  bool waitFor(int level, double timeout, const ros::WallTime& since, ros::WallTime* at = nullptr) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  bool waitFor(int level, double timeout, const ros::Time& since, ros::Time* at = nullptr) {
+    const ros::Time end = ros::Time::now() + ros::Duration(timeout);
     do {
       for (const auto& seen : history())
         if (seen.at > since && seen.level == level) {
           if (at) *at = seen.at;
           return true;
         }
-      ros::WallDuration(0.01).sleep();
-    } while (ros::WallTime::now() < end);
+      ros::Duration(0.01).sleep();
+    } while (ros::Time::now() < end);
     return false;
   }
   // Waits up to `timeout` s for the level; returns true when seen.
   bool waitFor(int level, double timeout) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-    while (ros::WallTime::now() < end) {
+    const ros::Time end = ros::Time::now() + ros::Duration(timeout);
+    while (ros::Time::now() < end) {
       if (this->level() == level) return true;
-      ros::WallDuration(0.01).sleep();
+      ros::Duration(0.01).sleep();
     }
     return false;
   }
@@ -95,7 +98,7 @@ class DiagnosticsWatch {
         std::lock_guard<std::mutex> lk(m_);
         level_ = s.level;
         message_ = s.message;
-        history_.push_back({ros::WallTime::now(), s.level, s.message});
+        history_.push_back({ros::Time::now(), s.level, s.message});
       }
   }
   std::string part_;
@@ -120,7 +123,7 @@ TEST(BoardNodelet, PollsAtRateReportsStaleHaltsOnceAndRecovers) {
   probe.mode = 0;
   DiagnosticsWatch diag("probe_board");
   auto board = load("/probe_board", 100.0);
-  ros::WallDuration(1.0).sleep();
+  ros::Duration(1.0).sleep();
   const int polled = probe.services.load();
   EXPECT_GT(polled, 60);
   EXPECT_LT(polled, 140);
@@ -130,7 +133,7 @@ TEST(BoardNodelet, PollsAtRateReportsStaleHaltsOnceAndRecovers) {
   probe.mode = 1;  // the board stops answering
   EXPECT_TRUE(diag.waitFor(diagnostic_msgs::DiagnosticStatus::STALE, 1.0)) << diag.message();
   EXPECT_NE(diag.message().find("probe not answering"), std::string::npos) << diag.message();
-  ros::WallDuration(0.5).sleep();
+  ros::Duration(0.5).sleep();
   EXPECT_EQ(probe.halts.load(), 1) << "halt() exactly once when the board goes stale";
 
   probe.mode = 0;  // it answers again
@@ -139,7 +142,7 @@ TEST(BoardNodelet, PollsAtRateReportsStaleHaltsOnceAndRecovers) {
   board.reset();  // unload
   EXPECT_EQ(probe.halts.load(), 2) << "halt() on unload";
   const int after = probe.services.load();
-  ros::WallDuration(0.2).sleep();
+  ros::Duration(0.2).sleep();
   EXPECT_EQ(probe.services.load(), after) << "no service() after unload";
 }
 
@@ -160,8 +163,8 @@ TEST(BoardNodelet, ReportsOnceAPeriodWhileTheLevelHolds) {
   DiagnosticsWatch diag("probe_cadence");
   auto board = load("/probe_cadence", 10.0);  // ~diagnostic_period at its default, 1 s
   ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0)) << diag.message();
-  const ros::WallTime t0 = ros::WallTime::now();
-  ros::WallDuration(3.0).sleep();
+  const ros::Time t0 = ros::Time::now();
+  ros::Duration(3.0).sleep();
   int steady = 0;
   for (const auto& seen : diag.history()) steady += seen.at > t0 && seen.level == DiagnosticStatus::OK;
   EXPECT_GE(steady, 2) << "a status at least once a period while nothing changes";
@@ -179,11 +182,11 @@ TEST(BoardNodelet, ALevelChangeIsPublishedAtOnce) {
 
   // The board stops answering: ERROR after ~failures_for_error (3) exchanges, STALE after
   // ~stale_timeout (0.3 s); each change goes out within a check (0.05 s), not a period.
-  const ros::WallTime t0 = ros::WallTime::now();
+  const ros::Time t0 = ros::Time::now();
   probe.mode = 1;
-  ros::WallTime stale_at;
+  ros::Time stale_at;
   ASSERT_TRUE(diag.waitFor(DiagnosticStatus::STALE, 2.0, t0, &stale_at)) << diag.message();
-  ros::WallTime first_change;
+  ros::Time first_change;
   for (const auto& seen : diag.history())
     if (seen.at > t0 && seen.level != DiagnosticStatus::OK) {
       first_change = seen.at;
@@ -193,9 +196,9 @@ TEST(BoardNodelet, ALevelChangeIsPublishedAtOnce) {
   std::printf("level change published %.3f s after the board stopped answering\n", latency);
   EXPECT_LT(latency, 0.2) << "a level change reaches /diagnostics within 0.2 s";
 
-  const ros::WallTime t1 = ros::WallTime::now();
+  const ros::Time t1 = ros::Time::now();
   probe.mode = 0;
-  ros::WallTime ok_at;
+  ros::Time ok_at;
   ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0, t1, &ok_at)) << diag.message();
   EXPECT_LT((ok_at - t1).toSec(), 0.2) << "back to OK within 0.2 s";
 }
@@ -208,9 +211,9 @@ TEST(BoardNodelet, TwoFailedExchangesInARowAreAWarningNotAnError) {
   // 10 Hz: each failure spans two checks; never STALE within these few failures.
   auto board = load("/probe_flaky", 10.0, 5.0);
   ASSERT_TRUE(diag.waitFor(DiagnosticStatus::OK, 2.0)) << diag.message();
-  const ros::WallTime t0 = ros::WallTime::now();
+  const ros::Time t0 = ros::Time::now();
   probe.fail_next = 2;
-  ros::WallTime warned;
+  ros::Time warned;
   ASSERT_TRUE(diag.waitFor(DiagnosticStatus::WARN, 1.0, t0, &warned)) << "two failures in a row are seen: " << diag.message();
   EXPECT_TRUE(diag.waitFor(DiagnosticStatus::OK, 1.0, warned)) << diag.message();
   for (const auto& seen : diag.history()) {
@@ -219,9 +222,9 @@ TEST(BoardNodelet, TwoFailedExchangesInARowAreAWarningNotAnError) {
     }
   }
 
-  const ros::WallTime t1 = ros::WallTime::now();
+  const ros::Time t1 = ros::Time::now();
   probe.fail_next = 4;  // from the third, an ERROR
-  ros::WallTime erred;
+  ros::Time erred;
   ASSERT_TRUE(diag.waitFor(DiagnosticStatus::ERROR, 1.5, t1, &erred)) << diag.message();
   EXPECT_TRUE(diag.waitFor(DiagnosticStatus::OK, 1.5, erred)) << diag.message();
 }
