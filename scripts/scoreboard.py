@@ -29,7 +29,7 @@ import sys
 
 import yaml
 
-from tune_objective import t_quantile_975
+from tune_objective import mean_interval
 
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 TARGETS = os.path.join(ROOT, 'config', 'scoreboard.yaml')
@@ -58,20 +58,6 @@ def read_table(path):
     if header is None or violations is None:
         raise ValueError('%s is not a run_matches.py summary (no table or no closing line)' % path)
     return rows, violations
-
-
-def mean_interval(values):
-    """(mean, low, high): the 95 % interval of the mean (nan bounds with fewer than 2 values)."""
-    values = [float(v) for v in values]
-    n = len(values)
-    if n == 0:
-        return float('nan'), float('nan'), float('nan')
-    mean = sum(values) / n
-    if n < 2:
-        return mean, float('nan'), float('nan')
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
-    half = t_quantile_975(n - 1) * sd / math.sqrt(n)
-    return mean, mean - half, mean + half
 
 
 def wilson_interval(successes, n):

@@ -35,24 +35,30 @@ def t_quantile_975(dof):
     return float(t.ppf(0.975, dof))
 
 
+def mean_interval(values):
+    """(mean, low, high): the mean and its 95 % interval (Student's t); nan bounds with fewer
+    than 2 values (one match tells nothing of luck), all nan with none."""
+    values = [float(v) for v in values]
+    n = len(values)
+    if n == 0:
+        return float('nan'), float('nan'), float('nan')
+    mean = sum(values) / n
+    if n < 2:
+        return mean, float('nan'), float('nan')
+    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
+    half = t_quantile_975(n - 1) * sd / math.sqrt(n)
+    return mean, mean - half, mean + half
+
+
 def paired_verdict(tuned, shipped):
     """Mean of our score per held-out seed, tuned and shipped, their mean difference and its 95 %
-    interval (paired t: both played the same seeds against the same opponents). With a single
-    seed the interval is unknown (nan): one match tells nothing of luck."""
+    interval (paired t: both played the same seeds against the same opponents)."""
     if len(tuned) != len(shipped) or not tuned:
         raise ValueError('the verdict needs the same held-out seeds for both: %d and %d' % (len(tuned), len(shipped)))
     a = [float(r.ours or 0) for r in tuned]
     b = [float(r.ours or 0) for r in shipped]
-    d = [x - y for x, y in zip(a, b)]
-    n = len(d)
-    mean = sum(d) / n
-    if n < 2:
-        low = high = float('nan')
-    else:
-        sd = math.sqrt(sum((x - mean) ** 2 for x in d) / (n - 1))
-        half = t_quantile_975(n - 1) * sd / math.sqrt(n)
-        low, high = mean - half, mean + half
-    return sum(a) / n, sum(b) / n, mean, low, high
+    mean, low, high = mean_interval([x - y for x, y in zip(a, b)])
+    return sum(a) / len(a), sum(b) / len(b), mean, low, high
 
 
 def closing_line(trials, best, baseline, improvement, low, high):
