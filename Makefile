@@ -20,7 +20,8 @@
 #                               zero scores, win rate against `player`, stalls and idle per match,
 #                               violations) against config/scoreboard.yaml; closing line
 #                               `scoreboard: robots R matches M targets_met T of K`
-#   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [CLUSTER=...] [WORKERS=W] [STORAGE=URL]  an Optuna
+#   make tune [ROBOT=eurobot2009] [TRIALS=50] [SEEDS=5] [HOLDOUT=H] [HOLDOUT_SEED=K] [CLUSTER=...]
+#             [WORKERS=W] [STORAGE=URL]  an Optuna
 #                               study over config/tune/ROBOT.yaml, SEEDS matches per trial, then
 #                               the best overlay against the shipped config on held-out seeds;
 #                               report/tune/; closing line `trials T best_score B baseline_score S
@@ -182,7 +183,8 @@ tune: build
 	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/tune.py $(ROBOT) --trials $(TRIALS) --seeds $(SEEDS) --seed $(SEED) \
 	  --factor $(FACTOR) $(if $(CLUSTER),--cluster $(CLUSTER)) $(if $(WORKERS),--workers $(WORKERS)) \
-	  $(if $(STORAGE),--storage $(STORAGE))
+	  $(if $(STORAGE),--storage $(STORAGE)) $(if $(HOLDOUT),--holdout $(HOLDOUT)) \
+	  $(if $(HOLDOUT_SEED),--holdout-seed $(HOLDOUT_SEED))
 
 # A Dask scheduler (port 8786) and workers for it, on any machine with this workspace built: the
 # workers need ROS's environment and scripts/ on their path; one single-threaded worker process

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`make tune`: an Optuna study of a robot's parameters, each trial a set of simulated matches.
 
-    scripts/tune.py ROBOT [--trials 50] [--seeds 5] [--seed 1] [--holdout H] [--factor 0]
+    scripts/tune.py ROBOT [--trials 50] [--seeds 5] [--seed 1] [--holdout H] [--holdout-seed K] [--factor 0]
                     [--cluster tcp://HOST:8786] [--workers W] [--storage URL] [--study NAME]
                     [--out DIR] [--match-duration S]
 
@@ -20,8 +20,9 @@ plays only the trials it still lacks. A new study's first trial is the shipped c
 At the end: OUT/ROBOT_best.yaml (the best trial's values as an overlay: roslaunch ...
 overlay:=OUT/ROBOT_best.yaml), OUT/ROBOT_tune.png (optimisation history and parameter
 importances), and the verdict: the best overlay and the shipped config each play --holdout
-matches on seeds no trial saw (SEED+HOLDOUT_OFFSET ...), same opponents for both, and the last
-line is
+matches on seeds no trial saw (SEED+HOLDOUT_OFFSET ..., or --holdout-seed K ...: a fresh held-out
+set declared before a second look, so that a verdict is never settled by adding seeds to the first
+one until it clears 0), same opponents for both, and the last line is
     trials T best_score B baseline_score S improvement D ci95 [L, H]
 B and S: our mean score on the held-out seeds with the best overlay and with the shipped config;
 D = B - S and its 95 % interval (paired t). An interval that contains 0 is no improvement.
@@ -140,6 +141,18 @@ def values_of(params, trial_params):
 
 # ---- matches -----------------------------------------------------------------------------------
 
+def held_out_seeds(seed, seeds, holdout, holdout_seed=None):
+    """The verdict's seeds: HOLDOUT matches from HOLDOUT_SEED (default SEED+HOLDOUT_OFFSET). A
+    ValueError if one of them is a seed the trials play."""
+    first = seed + HOLDOUT_OFFSET if holdout_seed is None else holdout_seed
+    held_out = list(range(first, first + holdout))
+    played = set(range(seed, seed + seeds))
+    if played.intersection(held_out):
+        raise ValueError('held-out seeds %d..%d overlap the trials\' seeds %d..%d' % (
+            first, first + holdout - 1, seed, seed + seeds - 1))
+    return held_out
+
+
 def jobs_for(args, seeds, params, out):
     """One match per seed with these parameters, opponents cycling as in `make matches`."""
     return [match_cluster.Job(robot=args.robot, seed=s, opponent=run_matches.OPPONENTS[k % len(run_matches.OPPONENTS)],
@@ -187,6 +200,8 @@ def main():
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--holdout', type=int, default=None, help='held-out matches per side of the verdict '
                     '(default: max(seeds, 2); 0: no verdict, the closing line says nan)')
+    ap.add_argument('--holdout-seed', type=int, default=None,
+                    help='first held-out seed (default: SEED+%d); it must not be one a trial plays' % HOLDOUT_OFFSET)
     ap.add_argument('--factor', type=float, default=0.0, help='real_time_factor (0: as fast as the machine goes)')
     ap.add_argument('--cluster', default=None, help='Dask scheduler address (default: a local cluster)')
     ap.add_argument('--workers', type=int, default=None, help='local cluster size (default: one worker per two cores)')
@@ -206,6 +221,10 @@ def main():
     holdout = max(args.seeds, 2) if args.holdout is None else args.holdout
     if holdout < 0:
         sys.exit('tune: --holdout = %d: must be 0 (no verdict) or more' % holdout)
+    try:
+        held_out = held_out_seeds(args.seed, args.seeds, holdout, args.holdout_seed)
+    except ValueError as e:
+        sys.exit('tune: --holdout-seed %s: %s' % (args.holdout_seed, e))
     os.makedirs(args.out, exist_ok=True)
 
     import optuna
@@ -262,7 +281,6 @@ def main():
 
         tuned, shipped = [], []
         if holdout:
-            held_out = [args.seed + HOLDOUT_OFFSET + k for k in range(holdout)]
             log('verdict: the best overlay and the shipped config on held-out seeds %d..%d' % (held_out[0], held_out[-1]))
             best_overlay = run_matches.with_duration(overlay_of(best_values), args.match_duration)
             rows, r = match_cluster.run_jobs(

@@ -67,6 +67,13 @@ TUNED = sorted(f[:-len('.yaml')] for f in os.listdir(os.path.join(ROOT, 'config'
 
 
 class SpaceTest(unittest.TestCase):
+    def test_held_out_seeds_never_overlap_the_trials(self):
+        self.assertEqual(tune.held_out_seeds(1, 3, 4), [100001, 100002, 100003, 100004])
+        self.assertEqual(tune.held_out_seeds(1, 3, 2, holdout_seed=200001), [200001, 200002])
+        self.assertEqual(tune.held_out_seeds(1, 3, 0), [])
+        with self.assertRaises(ValueError):
+            tune.held_out_seeds(1, 3, 5, holdout_seed=-1)  # -1 .. 3 includes seeds 1-3
+
     def test_both_robots_can_be_tuned(self):
         self.assertEqual(TUNED, ['eurobot2009', 'logion'])
 
