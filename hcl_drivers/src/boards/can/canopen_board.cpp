@@ -256,10 +256,9 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("bus queue overruns", bs.overruns);
   if (!bs.last_error.empty()) stat.add("bus last error", bs.last_error);
   // A bus-off the controller recovered from, a reset or a malformed frame is over at once (the
-  // driver re-configured the board / dropped the frame): each is held at ERROR for kTransientHold
-  // after the last check that saw one more, counted from the start of that episode, so a team
-  // (and a bag) sees it, then the board is OK again. The checks run many times per published
-  // report (robot_core/diagnostic_reporter.h), so nothing here counts "since the last report".
+  // driver re-configured the board / dropped the frame): each is held at ERROR for a second after
+  // the last check that saw one more, counted over the episode (robot_core/held_episode.h), so a
+  // team (and a bag) sees it, then the board is OK again.
   uint32_t boot_ups, malformed;
   {
     std::lock_guard lk(status_mutex_);
@@ -269,13 +268,16 @@ void CanopenBoard::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const ros::Time now = ros::Time::now();
   if (checked_) {  // the first check takes the counts as they are: the power-on's, a bus's past
     bus_off_.see(bs.bus_off_count, now);
-    // Boot-ups before the board first answered are its power-on, not a reset.
-    if (answered_before_) resets_.see(boot_ups, now);
     malformed_.see(malformed, now);
+  } else {
+    bus_off_.take(bs.bus_off_count);
+    malformed_.take(malformed);
   }
-  bus_off_.seen = bs.bus_off_count;
-  resets_.seen = boot_ups;
-  malformed_.seen = malformed;
+  // Boot-ups before the board first answered are its power-on, not a reset.
+  if (checked_ && answered_before_)
+    resets_.see(boot_ups, now);
+  else
+    resets_.take(boot_ups);
   checked_ = true;
   answered_before_ = answered_before_ || answering_;
   if (bus_off_.shown(now) && bs.state != BusState::kBusOff)

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <hcl_drivers/CanNodeStatus.h>
+#include <robot_core/held_episode.h>
 #include <robot_core/priority_inheritance_mutex.h>
 
 #include <atomic>
@@ -113,24 +114,9 @@ class CanopenBoard : public Board {
   bool was_answering_ = false;
   std::atomic<unsigned long> refused_{0};
   transport::BusState last_bus_state_ = transport::BusState::kErrorActive;
-  // A transient diagnose() holds at ERROR (a bus-off recovered from, a reset, malformed frames):
-  // an episode runs while its counter keeps growing, and is shown until kTransientHold after the
-  // last growth. Only the diagnostics' checks touch these, one at a time.
-  static constexpr double kTransientHold = 1.0;  // [s]
-  struct Transient {
-    unsigned long seen = 0;           // the counter at the previous check
-    unsigned long episode_start = 0;  // the counter when the episode began
-    ros::Time until;                  // shown until then
-    void see(unsigned long now_count, const ros::Time& now) {
-      if (now_count <= seen) return;
-      if (!shown(now)) episode_start = seen;
-      until = now + ros::Duration(kTransientHold);
-    }
-    // (A clock that went back, a simulation restarted, ends the episode.)
-    bool shown(const ros::Time& now) const { return now < until && now >= until - ros::Duration(kTransientHold); }
-    unsigned long count() const { return seen - episode_start; }
-  };
-  Transient bus_off_, resets_, malformed_;
+  // Transients diagnose() holds at ERROR (a bus-off recovered from, a reset, malformed frames).
+  // Only the diagnostics' checks touch these, one at a time.
+  robot_core::HeldEpisode bus_off_, resets_, malformed_;
   bool checked_ = false;          // a first check took the counts as they were
   bool answered_before_ = false;  // the board answered by the previous check: boot-ups are resets from then
   robot_core::PriorityInheritanceMutex status_mutex_;  // node counters copied for diagnostics/state (loop vs checks)

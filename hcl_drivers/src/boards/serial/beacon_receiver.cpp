@@ -26,6 +26,7 @@
 #include <mutex>
 #include <thread>
 
+#include <robot_core/held_episode.h>
 #include <robot_core/priority_inheritance_mutex.h>
 
 #include "hcl_drivers/board_nodelet.h"
@@ -142,25 +143,17 @@ class BeaconReceiver : public Board {
     stat.add("checksum errors", stats_.checksum_errors);
     stat.add("malformed messages", stats_.malformed);
     stat.add("unknown beacon ids", unknown_ids_);
-    // Bad bytes are over at once (the parser resynchronised): named at ERROR for kBadInputHold
-    // after the last of them, counted from the first, then OK again. (The diagnostics check
-    // many times per published report: the counts run over the episode, not since a report.)
+    // Bad bytes are over at once (the parser resynchronised): named at ERROR for a second after
+    // the last of them, counted over the episode (robot_core/held_episode.h), then OK again.
     const ros::Time now = ros::Time::now();
-    const uint64_t bad = stats_.garbage_bytes + stats_.checksum_errors + stats_.malformed;
-    const ros::Duration hold(kBadInputHold);
-    // (A clock that went back, a simulation restarted, ends the episode.)
-    const auto shown = [&] { return now < bad_until_ && now >= bad_until_ - hold; };
-    if (bad > bad_seen_) {
-      if (!shown()) episode_start_ = seen_;  // a new episode: count from the check before it
-      bad_until_ = now + hold;
-    }
-    if (shown())
+    if (bad_input_.see(stats_.garbage_bytes + stats_.checksum_errors + stats_.malformed, now))
+      episode_start_ = seen_;  // a new episode: its breakdown counts from the check before it
+    if (bad_input_.shown(now))
       stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
                          "bad input on %s: %lu garbage byte(s), %lu checksum error(s), %lu malformed message(s)",
                          port_->path().c_str(), stats_.garbage_bytes - episode_start_.garbage_bytes,
                          stats_.checksum_errors - episode_start_.checksum_errors,
                          stats_.malformed - episode_start_.malformed);
-    bad_seen_ = bad;
     seen_ = stats_;
     // One beacon silent while the receiver hears the others (all silent: the board itself is).
     if (!last_valid_.isZero() && (now - last_valid_).toSec() <= silence_timeout_) {
@@ -260,11 +253,10 @@ class BeaconReceiver : public Board {
   std::unique_ptr<transport::SerialPort> port_;  // used by the reader thread only
   double silence_timeout_ = 1.0;
   double beacon_timeout_ = 0.6;
-  // Bad input as diagnose() saw it at its previous check, and the episode it holds at ERROR.
-  uint64_t bad_seen_ = 0;  // garbage + checksum + malformed
+  // Bad input (garbage + checksum + malformed) as diagnose() holds it at ERROR, and its breakdown
+  // at the previous check and at the start of the episode.
+  robot_core::HeldEpisode bad_input_;
   beacon_protocol::Stats seen_, episode_start_;
-  static constexpr double kBadInputHold = 1.0;  // [s] bad input stays ERROR this long after the last
-  ros::Time bad_until_;
   ros::Publisher delta_pub_, state_pub_;
   std::atomic<bool> running_{false};
   std::thread reader_;
