@@ -1,6 +1,7 @@
 #include "hcl_drivers/loop_scheduler.h"
 
 #include <robot_core/loop_pacer.h>
+#include <robot_core/priority_inheritance_mutex.h>
 #include <robot_core/realtime.h>
 #include <ros/ros.h>
 
@@ -25,7 +26,7 @@ class LoopScheduler::Loop {
 
   ~Loop() {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       stop_ = true;
     }
     cv_.notify_all();
@@ -33,14 +34,14 @@ class LoopScheduler::Loop {
   }
 
   void add(const std::string& member, double rate_hz, Work work) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     members_.push_back(std::make_shared<Member>(Member{member, robot_core::LoopPacer(1.0 / rate_hz), std::move(work), 0.0}));
     cv_.notify_all();
   }
 
   void wake(const std::string& member) {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       for (auto& m : members_)
         if (m->name == member && !m->pacer.woken()) {
           m->pacer.wake();
@@ -53,7 +54,7 @@ class LoopScheduler::Loop {
 
   // Returns true when the loop has no members left.
   bool remove(const std::string& member) {
-    std::unique_lock<std::mutex> lk(mutex_);
+    std::unique_lock lk(mutex_);
     members_.erase(std::remove_if(members_.begin(), members_.end(),
                                   [&](const std::shared_ptr<Member>& m) { return m->name == member; }),
                    members_.end());
@@ -63,7 +64,7 @@ class LoopScheduler::Loop {
   }
 
   std::vector<std::string> names() const {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     std::vector<std::string> out;
     for (const auto& m : members_) out.push_back(m->name);
     return out;
@@ -81,7 +82,7 @@ class LoopScheduler::Loop {
 
   void run() {
     robot_core::enterRealtime("a bus loop");
-    std::unique_lock<std::mutex> lk(mutex_);
+    std::unique_lock lk(mutex_);
     while (!stop_) {
       const ros::Time now = ros::Time::now();
       if (members_.empty() || now.isZero()) {  // nothing to do, or simulated time not started yet
@@ -121,8 +122,10 @@ class LoopScheduler::Loop {
   }
 
   std::string name_;
-  mutable std::mutex mutex_;
-  std::condition_variable cv_;
+  // Commands' wake() (normal-priority callback threads) and this real-time thread share them: a
+  // priority-inheritance mutex, so a preempted waker never holds the loop up behind other work.
+  mutable robot_core::PriorityInheritanceMutex mutex_;
+  std::condition_variable_any cv_;
   std::vector<std::shared_ptr<Member>> members_;
   std::string running_;
   unsigned long wakes_ = 0;  // counts wake() calls: ends the loop's wait early

@@ -17,6 +17,7 @@
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <robot_core/parameters.h>
+#include <robot_core/priority_inheritance_mutex.h>
 #include <ros/ros.h>
 
 #include <functional>
@@ -53,13 +54,13 @@ class Device {
   void setWakeHandler(std::function<void(const ros::Time& stamp)> wake) { wake_ = std::move(wake); }
   const std::vector<std::shared_ptr<InputStatus>>& inputs() const { return inputs_; }
   bool available(std::string* reason) const {
-    std::lock_guard<std::mutex> lk(status_mutex_);
+    std::lock_guard lk(status_mutex_);
     if (reason) *reason = unavailable_reason_;
     return unavailable_reason_.empty();
   }
   // The condition set by the device: its level (OK when none) and message.
   uint8_t condition(std::string* message) const {
-    std::lock_guard<std::mutex> lk(status_mutex_);
+    std::lock_guard lk(status_mutex_);
     if (message) *message = condition_message_;
     return condition_level_;
   }
@@ -97,7 +98,7 @@ class Device {
 
   void setAvailable() { setUnavailable(""); }
   void setUnavailable(const std::string& reason) {
-    std::lock_guard<std::mutex> lk(status_mutex_);
+    std::lock_guard lk(status_mutex_);
     unavailable_reason_ = reason;
   }
 
@@ -105,7 +106,7 @@ class Device {
   // `message` (it replaces "ok", or joins the framework's own complaint after a "; "), until
   // clearCondition(). It does not make the device unavailable. Thread-safe.
   void setCondition(uint8_t level, const std::string& message) {
-    std::lock_guard<std::mutex> lk(status_mutex_);
+    std::lock_guard lk(status_mutex_);
     condition_level_ = level;
     condition_message_ = message;
   }
@@ -114,7 +115,7 @@ class Device {
  private:
   std::vector<std::shared_ptr<InputStatus>> inputs_;
   std::function<void(const ros::Time& stamp)> wake_;
-  mutable std::mutex status_mutex_;
+  mutable robot_core::PriorityInheritanceMutex status_mutex_;  // device loop vs callbacks and checks
   std::string unavailable_reason_ = "not refreshed yet";
   uint8_t condition_level_ = diagnostic_msgs::DiagnosticStatus::OK;
   std::string condition_message_;

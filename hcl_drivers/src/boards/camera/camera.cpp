@@ -20,6 +20,8 @@
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+
+#include <robot_core/priority_inheritance_mutex.h>
 #include <thread>
 
 #include "hcl_drivers/board_nodelet.h"
@@ -97,7 +99,7 @@ class Camera : public Board {
     ros::Time stamp;
     CameraState::Ptr s(new CameraState);
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       s->open = open_;
       s->device = source_->device();
       s->frames = frames_;
@@ -137,7 +139,7 @@ class Camera : public Board {
   void halt() override {}  // a sensor: nothing to make safe
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("device", source_->device());
     stat.add("open", open_ ? "yes" : "no");
     stat.add("frames", frames_);
@@ -158,7 +160,7 @@ class Camera : public Board {
           for (double t = 0; t < reopen_period_ && running_; t += 0.05) std::this_thread::sleep_for(std::chrono::milliseconds(50));
           continue;
         }
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         if (was_open) ++reopens_;
         was_open = true;
         open_ = true;
@@ -166,7 +168,7 @@ class Camera : public Board {
       }
       cv::Mat frame;
       if (!source_->read(frame)) {
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         ++failed_;
         if (++consecutive_failures >= 3) {  // the device or stream is gone: start over
           source_->close();
@@ -177,11 +179,11 @@ class Camera : public Board {
       }
       consecutive_failures = 0;
       if (frame.type() != CV_8UC3) {
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         ++failed_;
         continue;
       }
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       newest_ = frame;
       ++newest_seq_;
       ++frames_;
@@ -191,7 +193,7 @@ class Camera : public Board {
   }
 
   void setOpen(bool open, const std::string& err) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     open_ = open;
     if (!err.empty()) error_ = err;
   }
@@ -203,7 +205,7 @@ class Camera : public Board {
   std::atomic<bool> running_{false};
   std::thread grabber_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   bool open_ = false;
   std::string error_;
   cv::Mat newest_;

@@ -49,7 +49,7 @@ class Epos : public CanopenBoard {
     node().onFrame(status_cob_, [this](const CanFrame& f) {
       const auto s = epos::decodeStatus(f);
       if (!s) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       status_ = *s;
       got_status_ = true;
       return true;
@@ -57,7 +57,7 @@ class Epos : public CanopenBoard {
     node().onFrame(feedback_cob_, [this](const CanFrame& f) {
       const auto fb = epos::decodeFeedback(f);
       if (!fb) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       feedback_ = *fb;
       got_feedback_ = true;
       return true;
@@ -66,7 +66,7 @@ class Epos : public CanopenBoard {
     encoder_pub_ = ctx.pnh.advertise<EncoderCounter>("encoder/" + encoder_, 1, true);
     command_sub_ = subscribeCommand<MotorCommand>(ctx, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) {
       if (!acceptCommand("velocity")) return;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       command_rpm_ = std::max(-max_rpm_, std::min(max_rpm_, m->value));
       command_stamp_ = m->header.stamp;
       command_received_ = ros::Time::now();
@@ -78,7 +78,7 @@ class Epos : public CanopenBoard {
             res.message = "EPOS (node " + std::to_string(nodeId()) + ") not answering: " + lastError();
             return true;
           }
-          std::lock_guard<std::mutex> lk(mutex_);
+          std::lock_guard lk(mutex_);
           enable_requested_ = req.data;
           res.success = true;
           res.message = req.data ? "enabling" : "disabled";
@@ -91,7 +91,7 @@ class Epos : public CanopenBoard {
             res.message = "EPOS (node " + std::to_string(nodeId()) + ") not answering: " + lastError();
             return true;
           }
-          std::lock_guard<std::mutex> lk(mutex_);
+          std::lock_guard lk(mutex_);
           fault_reset_pending_ = true;
           res.success = true;
           res.message = "fault reset sent with the next poll";
@@ -105,12 +105,12 @@ class Epos : public CanopenBoard {
 
   bool exchange() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       got_status_ = got_feedback_ = false;
     }
     const bool answered = requestPdos({{status_cob_, 5}, {feedback_cob_, 8}},
                                       [this] {
-                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        std::lock_guard lk(mutex_);
                                         return got_status_ && got_feedback_;
                                       },
                                       "EPOS");
@@ -118,7 +118,7 @@ class Epos : public CanopenBoard {
     uint16_t cw = 0;
     int32_t rpm = 0;
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       const auto ds = epos::decodeDriveState(status_.statusword);
       if (fault_reset_pending_) {
         cw = epos::kCwFaultReset;
@@ -147,7 +147,7 @@ class Epos : public CanopenBoard {
 
   void stopActuators() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       command_rpm_ = 0;
       command_received_ = ros::Time();
       sent_rpm_ = 0;
@@ -161,7 +161,7 @@ class Epos : public CanopenBoard {
     EposState::Ptr s(new EposState);
     s->header.stamp = ros::Time::now();
     fillStatus(s->node);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     const auto ds = epos::decodeDriveState(status_.statusword);
     s->statusword = status_.statusword;
     s->drive_state = epos::toString(ds);
@@ -185,7 +185,7 @@ class Epos : public CanopenBoard {
   }
 
   void diagnoseBoard(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     const auto ds = epos::decodeDriveState(status_.statusword);
     stat.add("drive state", epos::toString(ds));
     stat.addf("error code", "0x%04X", status_.error_code);
@@ -204,7 +204,7 @@ class Epos : public CanopenBoard {
   ros::Subscriber command_sub_;
   ros::ServiceServer enable_srv_, fault_reset_srv_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   epos::Status status_;
   epos::Feedback feedback_;
   bool got_status_ = false, got_feedback_ = false;

@@ -38,7 +38,7 @@ class HmiBoard : public CanopenBoard {
     node().onFrame(keys_cob_, [this](const CanFrame& f) {
       const auto k = hmi_board::decodeKeys(f);
       if (!k) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       keys_ = *k;
       got_keys_ = true;
       return true;
@@ -47,7 +47,7 @@ class HmiBoard : public CanopenBoard {
     inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
     lcd_sub_ = subscribeCommand<std_msgs::String>(ctx, "lcd", [this](const std_msgs::String::ConstPtr& m) {
       if (!acceptCommand("LCD")) return;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       std::size_t start = 0;
       for (int line = 0; line < hmi_board::kLines; ++line) {
         const std::size_t nl = m->data.find('\n', start);
@@ -59,7 +59,7 @@ class HmiBoard : public CanopenBoard {
   }
 
   void configure() override {
-    std::lock_guard<std::mutex> lk(mutex_);  // after a reset the LCD is blank: send everything
+    std::lock_guard lk(mutex_);  // after a reset the LCD is blank: send everything
     for (auto& s : shown_) s.assign(hmi_board::kColumns, '\x01');
   }
 
@@ -67,7 +67,7 @@ class HmiBoard : public CanopenBoard {
     // LCD: changed chunks first (bounded, so a full rewrite takes a few polls, not one long one).
     std::vector<CanFrame> frames;
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       for (int line = 0; line < hmi_board::kLines && frames.size() < 4; ++line)
         for (int col = 0; col < hmi_board::kColumns && frames.size() < 4; col += hmi_board::kCharsPerFrame) {
           const std::string want = wanted_[line].substr(col, hmi_board::kCharsPerFrame);
@@ -85,7 +85,7 @@ class HmiBoard : public CanopenBoard {
       }
     const bool answered = requestPdos({{keys_cob_, 4}},
                                       [this] {
-                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        std::lock_guard lk(mutex_);
                                         return got_keys_;
                                       },
                                       "HMI board");
@@ -100,7 +100,7 @@ class HmiBoard : public CanopenBoard {
     HmiBoardState::Ptr s(new HmiBoardState);
     s->header.stamp = ros::Time::now();
     fillStatus(s->node);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     s->lcd_lines = {wanted_[0], wanted_[1]};
     s->keys = keys_.held;
     s->last_key = keys_.last_key;
@@ -121,7 +121,7 @@ class HmiBoard : public CanopenBoard {
   ros::Publisher state_pub_, inputs_pub_;
   ros::Subscriber lcd_sub_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   std::array<std::string, hmi_board::kLines> wanted_, shown_;
   hmi_board::Keys keys_;
   bool got_keys_ = false;

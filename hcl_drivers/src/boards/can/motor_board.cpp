@@ -45,7 +45,7 @@ class MotorBoard : public CanopenBoard {
     node().onFrame(encoder_cob_, [this](const CanFrame& f) {
       const auto e = motor_board::decodeEncoders(f);
       if (!e) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       encoders_raw_ = e->raw;
       got_encoders_ = true;
       return true;
@@ -53,7 +53,7 @@ class MotorBoard : public CanopenBoard {
     node().onFrame(status_cob_, [this](const CanFrame& f) {
       const auto s = motor_board::decodeStatus(f);
       if (!s) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       status_ = *s;
       got_status_ = true;
       return true;
@@ -81,13 +81,13 @@ class MotorBoard : public CanopenBoard {
       return false;
     }
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       got_encoders_ = got_status_ = false;
       sent_ = pwm;
     }
     const bool answered = requestPdos({{encoder_cob_, 8}, {status_cob_, 5}},
                                       [this] {
-                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        std::lock_guard lk(mutex_);
                                         return got_encoders_ && got_status_;
                                       },
                                       "motor board");
@@ -98,7 +98,7 @@ class MotorBoard : public CanopenBoard {
 
   void stopActuators() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       for (auto& c : commands_) c = Command{};
     }
     node().sendRaw(motor_board::encodeCommand(command_cob_, {0, 0}));
@@ -108,7 +108,7 @@ class MotorBoard : public CanopenBoard {
     MotorBoardState::Ptr s(new MotorBoardState);
     s->header.stamp = ros::Time::now();
     fillStatus(s->node);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     s->motor_names = motors_;
     s->encoder_names = encoders_;
     for (std::size_t i = 0; i < motors_.size(); ++i) {
@@ -132,7 +132,7 @@ class MotorBoard : public CanopenBoard {
   }
 
   void diagnoseBoard(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("firmware version", firmware_version_);
     stat.add("commands dropped as stale", stale_commands_);
     stat.add("firmware watchdog stopped motors", status_.watchdog_stopped);
@@ -147,14 +147,14 @@ class MotorBoard : public CanopenBoard {
 
   void onCommand(std::size_t i, const MotorCommand& m) {
     if (!acceptCommand("motor")) return;
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     commands_[i].pwm = static_cast<int16_t>(std::max(-1000, std::min(1000, m.value)));
     commands_[i].stamp = m.header.stamp;
     commands_[i].received = ros::Time::now();
   }
 
   std::array<int16_t, motor_board::kMotors> commandsToApply() {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     std::array<int16_t, motor_board::kMotors> pwm{0, 0};
     for (std::size_t i = 0; i < motors_.size(); ++i) {
       Command& c = commands_[i];
@@ -180,7 +180,7 @@ class MotorBoard : public CanopenBoard {
   std::vector<ros::Publisher> encoder_pubs_;
   std::vector<ros::Subscriber> subs_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   std::array<Command, motor_board::kMotors> commands_{};
   std::array<int16_t, motor_board::kMotors> sent_{0, 0};
   std::array<uint32_t, motor_board::kMotors> encoders_raw_{0, 0};

@@ -46,7 +46,7 @@ class ServoBoard : public CanopenBoard {
     node().onFrame(ranger_cob_, [this](const CanFrame& f) {
       const auto a = servo_board::decodeRangers(f);
       if (!a) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       adc_ = *a;
       got_adc_ = true;
       return true;
@@ -54,7 +54,7 @@ class ServoBoard : public CanopenBoard {
     node().onFrame(switch_cob_, [this](const CanFrame& f) {
       const auto s = servo_board::decodeSwitches(f);
       if (!s) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       switches_ = *s;
       got_switches_ = true;
       return true;
@@ -66,7 +66,7 @@ class ServoBoard : public CanopenBoard {
       subs_.push_back(subscribeCommand<std_msgs::UInt16>(ctx, "servo/" + servos_[i] + "/pulse_us",
                                                           [this, i](const std_msgs::UInt16::ConstPtr& m) {
                                                             if (!acceptCommand("servo")) return;
-                                                            std::lock_guard<std::mutex> lk(mutex_);
+                                                            std::lock_guard lk(mutex_);
                                                             if (!servo_board::validPulse(m->data)) {
                                                               ++bad_commands_;
                                                               return;
@@ -78,7 +78,7 @@ class ServoBoard : public CanopenBoard {
   bool exchange() override {
     std::array<uint16_t, servo_board::kServos> pulse{};
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       pulse = pulse_;
       got_adc_ = got_switches_ = false;
     }
@@ -88,7 +88,7 @@ class ServoBoard : public CanopenBoard {
     }
     const bool answered = requestPdos({{ranger_cob_, 8}, {switch_cob_, 2}},
                                       [this] {
-                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        std::lock_guard lk(mutex_);
                                         return got_adc_ && got_switches_;
                                       },
                                       "servo board");
@@ -99,7 +99,7 @@ class ServoBoard : public CanopenBoard {
 
   void stopActuators() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       pulse_.fill(0);
     }
     node().sendRaw(servo_board::encodeServos(servo_cob_, {0, 0, 0, 0}));
@@ -109,7 +109,7 @@ class ServoBoard : public CanopenBoard {
     ServoBoardState::Ptr s(new ServoBoardState);
     s->header.stamp = ros::Time::now();
     fillStatus(s->node);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     s->servo_names = servos_;
     for (std::size_t i = 0; i < servos_.size(); ++i) s->servo_pulse_us.push_back(pulse_[i]);
     s->ranger_names = rangers_;
@@ -140,7 +140,7 @@ class ServoBoard : public CanopenBoard {
   }
 
   void diagnoseBoard(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("out-of-range servo commands", bad_commands_);
   }
 
@@ -151,7 +151,7 @@ class ServoBoard : public CanopenBoard {
   std::vector<ros::Publisher> range_pubs_;
   std::vector<ros::Subscriber> subs_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   std::array<uint16_t, servo_board::kServos> pulse_{0, 0, 0, 0};
   std::array<uint16_t, servo_board::kAdcs> adc_{0, 0, 0, 0};
   uint16_t switches_ = 0;

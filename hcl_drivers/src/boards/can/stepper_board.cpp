@@ -44,7 +44,7 @@ class StepperBoard : public CanopenBoard {
     node().onFrame(position_cob_, [this](const CanFrame& f) {
       const auto p = stepper_board::decodePositions(f);
       if (!p) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       position_ = *p;
       got_position_ = true;
       return true;
@@ -52,7 +52,7 @@ class StepperBoard : public CanopenBoard {
     node().onFrame(switch_cob_, [this](const CanFrame& f) {
       const auto s = stepper_board::decodeSwitches(f);
       if (!s) return false;
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       switches_ = *s;
       got_switches_ = true;
       return true;
@@ -63,7 +63,7 @@ class StepperBoard : public CanopenBoard {
       subs_.push_back(subscribeCommand<std_msgs::Int32>(ctx, "stepper/" + steppers_[i] + "/target",
                                                          [this, i](const std_msgs::Int32::ConstPtr& m) {
                                                            if (!acceptCommand("stepper target")) return;
-                                                           std::lock_guard<std::mutex> lk(mutex_);
+                                                           std::lock_guard lk(mutex_);
                                                            target_[i] = m->data;
                                                            commanded_[i] = true;
                                                          }));
@@ -71,12 +71,12 @@ class StepperBoard : public CanopenBoard {
 
   bool exchange() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       got_position_ = got_switches_ = false;
     }
     const bool answered = requestPdos({{position_cob_, 8}, {switch_cob_, 2}},
                                       [this] {
-                                        std::lock_guard<std::mutex> lk(mutex_);
+                                        std::lock_guard lk(mutex_);
                                         return got_position_ && got_switches_;
                                       },
                                       "stepper board");
@@ -84,7 +84,7 @@ class StepperBoard : public CanopenBoard {
     std::array<int32_t, stepper_board::kSteppers> t{};
     bool any = false;
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       for (int i = 0; i < stepper_board::kSteppers; ++i) {
         t[i] = commanded_[i] ? target_[i] : position_[i];
         any = any || commanded_[i];
@@ -102,7 +102,7 @@ class StepperBoard : public CanopenBoard {
   void stopActuators() override {
     std::array<int32_t, stepper_board::kSteppers> t{};
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       t = position_;
       for (int i = 0; i < stepper_board::kSteppers; ++i) {
         commanded_[i] = false;
@@ -117,7 +117,7 @@ class StepperBoard : public CanopenBoard {
     StepperBoardState::Ptr s(new StepperBoardState);
     s->header.stamp = ros::Time::now();
     fillStatus(s->node);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     s->stepper_names = steppers_;
     for (std::size_t i = 0; i < steppers_.size(); ++i) {
       s->position.push_back(position_[i]);
@@ -141,7 +141,7 @@ class StepperBoard : public CanopenBoard {
   ros::Publisher state_pub_, inputs_pub_;
   std::vector<ros::Subscriber> subs_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   std::array<int32_t, stepper_board::kSteppers> position_{0, 0}, target_{0, 0}, sent_{0, 0};
   std::array<bool, stepper_board::kSteppers> commanded_{false, false};
   stepper_board::Switches switches_;

@@ -13,6 +13,8 @@
 #include <memory>
 #include <mutex>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/example_protocol.h"
 #include "hcl_drivers/transport/endpoint.h"
@@ -86,7 +88,7 @@ class ExampleBoard : public Board {
       }
       const auto reply = example_protocol::decodeReply(datagram);
       if (!reply) {
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         ++malformed_;  // counted and dropped; keep waiting for the real answer
         continue;
       }
@@ -98,7 +100,7 @@ class ExampleBoard : public Board {
 
   void halt() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       lamp_command_ = 0;
       lamp_stamp_ = ros::Time();
     }
@@ -106,7 +108,7 @@ class ExampleBoard : public Board {
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("malformed answers", malformed_);
     stat.add("board resets seen", resets_);
     stat.add("commands dropped as stale", stale_commands_);
@@ -115,14 +117,14 @@ class ExampleBoard : public Board {
 
  private:
   void onLamp(const std_msgs::UInt8::ConstPtr& msg) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     lamp_command_ = msg->data;
     lamp_stamp_ = ros::Time::now();
   }
 
   // The commanded PWM, or 0 when the last command is older than ~command_timeout.
   uint8_t lampToApply() {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     if (lamp_stamp_.isZero()) return 0;
     if ((ros::Time::now() - lamp_stamp_).toSec() > command_timeout_) {
       ++stale_commands_;
@@ -136,7 +138,7 @@ class ExampleBoard : public Board {
 
   void publish(const example_protocol::Reply& r) {
     if (have_uptime_ && r.uptime_ms < last_uptime_) {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       ++resets_;
       ROS_WARN("example board reset (uptime %u ms -> %u ms)", last_uptime_, r.uptime_ms);
     }
@@ -159,7 +161,7 @@ class ExampleBoard : public Board {
   bool have_uptime_ = false;
   uint32_t last_uptime_ = 0;
 
-  std::mutex mutex_;  // command callback vs polling thread vs diagnostics
+  robot_core::PriorityInheritanceMutex mutex_;  // command callback vs polling thread vs diagnostics
   uint8_t lamp_command_ = 0;
   ros::Time lamp_stamp_;
   unsigned long malformed_ = 0;

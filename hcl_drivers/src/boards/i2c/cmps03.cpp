@@ -11,6 +11,8 @@
 
 #include <mutex>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/cmps03_registers.h"
 #include "hcl_drivers/boards/i2c_device.h"
@@ -49,7 +51,7 @@ class CMPS03 : public Board {
     }
     const auto r = cmps03::decodeBlock(raw);
     if (!r) {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       ++garbled_;
       fail("garbled bearing (word > 3599 or byte/word disagree)");
       return false;
@@ -73,14 +75,14 @@ class CMPS03 : public Board {
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
     diagnoseI2c(dev_, stat);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("garbled reads", garbled_);
   }
 
  private:
   I2cDevice dev_;
   ros::Publisher bearing_pub_, state_pub_;
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   unsigned long garbled_ = 0;
 };
 

@@ -17,6 +17,8 @@
 
 #include <mutex>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/hbmotor_registers.h"
 #include "hcl_drivers/boards/i2c_device.h"
@@ -81,14 +83,14 @@ class HBMotor : public Board {
     }
     const auto block = hbmotor::decodeBlock(raw);
     if (!block) {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       ++garbled_;
       fail("garbled register block (reserved status bits set)");
       return false;
     }
     if (block->status & hbmotor::kStatusPowerOn) {
       // The board rebooted: its counter restarted and its watchdog is off. Reconfigure next time.
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       ++resets_;
       configured_ = false;
       ROS_WARN("HBmotor 0x%02x reset (power-on flag set): reconfiguring", dev_.address);
@@ -99,7 +101,7 @@ class HBMotor : public Board {
 
   void halt() override {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       command_ = 0;
       command_stamp_ = ros::Time();
     }
@@ -111,7 +113,7 @@ class HBMotor : public Board {
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
     diagnoseI2c(dev_, stat);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("garbled reads", garbled_);
     stat.add("board resets seen", resets_);
     stat.add("commands dropped as stale", stale_commands_);
@@ -122,7 +124,7 @@ class HBMotor : public Board {
 
  private:
   void onCommand(const MotorCommand::ConstPtr& msg) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     if (!msg->name.empty() && msg->name != motor_) {
       ++wrong_name_;
       return;
@@ -133,7 +135,7 @@ class HBMotor : public Board {
   }
 
   int32_t commandToApply() {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     if (command_stamp_.isZero()) return 0;
     if ((ros::Time::now() - command_stamp_).toSec() > command_timeout_) {
       ++stale_commands_;
@@ -149,7 +151,7 @@ class HBMotor : public Board {
     const ros::Time now = ros::Time::now();
     uint32_t resets;
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       resets = resets_;
     }
     EncoderCounter::Ptr e(new EncoderCounter);
@@ -180,7 +182,7 @@ class HBMotor : public Board {
   ros::Publisher state_pub_, encoder_pub_;
   ros::Subscriber command_sub_;
 
-  std::mutex mutex_;  // command callback vs polling thread vs diagnostics
+  robot_core::PriorityInheritanceMutex mutex_;  // command callback vs polling thread vs diagnostics
   int32_t command_ = 0;
   ros::Time command_stamp_;
   unsigned long garbled_ = 0, stale_commands_ = 0, wrong_name_ = 0, clamped_ = 0;

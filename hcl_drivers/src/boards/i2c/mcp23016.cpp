@@ -19,6 +19,8 @@
 
 #include <mutex>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/i2c_device.h"
 #include "hcl_drivers/boards/mcp23016_registers.h"
@@ -110,7 +112,7 @@ class MCP23016 : public Board {
     const uint16_t gp = mcp23016::decodePair(msgs[1].data);
     const uint16_t iodir = mcp23016::decodePair(msgs[3].data);
     if (iodir != direction_) {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       configured_ = false;
       if (iodir == mcp23016::kIodirPowerOn) {
         ++resets_;
@@ -128,7 +130,7 @@ class MCP23016 : public Board {
   void halt() override {
     // LEDs are harmless but a halted board should look halted: back to the initial outputs.
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       olat_ = initial_;
     }
     if (!dev_.bus) return;
@@ -139,7 +141,7 @@ class MCP23016 : public Board {
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
     diagnoseI2c(dev_, stat);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("board resets seen", resets_);
     stat.add("IODIR mismatches", mismatches_);
     stat.addf("outputs", "0x%04x", olat_);
@@ -153,12 +155,12 @@ class MCP23016 : public Board {
   }
 
   void onOutputs(const std_msgs::UInt16::ConstPtr& msg) {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     olat_ = msg->data;
   }
 
   uint16_t olat() {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     return olat_;
   }
 
@@ -176,7 +178,7 @@ class MCP23016 : public Board {
     s->iodir = iodir;
     s->olat = olat;
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       s->board_resets = resets_;
     }
     state_pub_.publish(s);
@@ -189,7 +191,7 @@ class MCP23016 : public Board {
   ros::Publisher inputs_pub_, state_pub_;
   ros::Subscriber outputs_sub_;
 
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   uint16_t olat_ = 0;
   uint32_t resets_ = 0;
   unsigned long mismatches_ = 0;

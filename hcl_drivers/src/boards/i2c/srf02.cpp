@@ -22,6 +22,8 @@
 #include <limits>
 #include <mutex>
 
+#include <robot_core/priority_inheritance_mutex.h>
+
 #include "hcl_drivers/board_nodelet.h"
 #include "hcl_drivers/boards/i2c_device.h"
 #include "hcl_drivers/boards/srf02_registers.h"
@@ -72,14 +74,14 @@ class SRF02 : public Board {
       }
       const auto r = srf02::decodeResult(raw);
       if (r.kind == srf02::ResultKind::kBusy) {
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         ++busy_reads_;
         return true;  // it answered; the result comes on a later call
       }
       const ros::Time pinged = started_;
       started_ = ros::Time();
       if (r.kind == srf02::ResultKind::kInvalid) {
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         ++garbled_;
         fail("garbled result (range beyond 16 m)");
         return false;
@@ -99,7 +101,7 @@ class SRF02 : public Board {
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
     diagnoseI2c(dev_, stat);
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("busy reads", busy_reads_);
     stat.add("garbled reads", garbled_);
     stat.add("ranges", ranges_);
@@ -123,7 +125,7 @@ class SRF02 : public Board {
     s->address = dev_.address;
     s->revision = r.revision;
     s->range_cm = r.range_cm;
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     ++ranges_;
     s->busy_reads = busy_reads_;
     state_pub_.publish(s);
@@ -135,7 +137,7 @@ class SRF02 : public Board {
   double fov_ = srf02::kFieldOfView;
   ros::Time started_;  // when the pending ranging was commanded; zero = none pending
   ros::Publisher range_pub_, state_pub_;
-  std::mutex mutex_;
+  robot_core::PriorityInheritanceMutex mutex_;
   uint32_t busy_reads_ = 0;
   unsigned long garbled_ = 0, ranges_ = 0;
 };

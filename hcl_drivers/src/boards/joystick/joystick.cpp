@@ -19,6 +19,8 @@
 #include <sensor_msgs/Joy.h>
 
 #include <mutex>
+
+#include <robot_core/priority_inheritance_mutex.h>
 #include <chrono>
 #include <thread>
 
@@ -106,7 +108,7 @@ class Joystick : public Board {
       decoder_.reset();
       state_.resize(device_->axes(), device_->buttons());
       if (ever_connected_) {
-        std::lock_guard<std::mutex> lk(mutex_);
+        std::lock_guard lk(mutex_);
         ++reopens_;
       }
     }
@@ -116,7 +118,7 @@ class Joystick : public Board {
     decoder_.feed(bytes_.data(), bytes_.size(), events_);
     bool changed = false;
     for (const auto& e : events_) {
-      std::lock_guard<std::mutex> lk(mutex_);
+      std::lock_guard lk(mutex_);
       ++event_count_;
       if (state_.apply(e))
         changed = true;
@@ -147,7 +149,7 @@ class Joystick : public Board {
   void halt() override {}  // an input device: nothing to make safe
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) override {
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     stat.add("device", device_->path());
     stat.add("connected", connected_ ? "yes" : "no");
     stat.add("reopens", reopens_);
@@ -171,7 +173,7 @@ class Joystick : public Board {
     s->name = device_->name();
     s->axes = j->axes;
     s->buttons = j->buttons;
-    std::lock_guard<std::mutex> lk(mutex_);
+    std::lock_guard lk(mutex_);
     s->reconnects = reopens_;
     s->events = event_count_;
     s->bad_events = bad_events_;
@@ -189,7 +191,7 @@ class Joystick : public Board {
   bool connected_ = false, ever_connected_ = false;
   ros::Publisher joy_pub_, state_pub_;
 
-  std::mutex mutex_;  // counters: loop vs diagnostics
+  robot_core::PriorityInheritanceMutex mutex_;  // counters: loop vs diagnostics
   uint32_t reopens_ = 0, event_count_ = 0, bad_events_ = 0;
 };
 
