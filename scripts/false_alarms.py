@@ -15,6 +15,10 @@ ERROR, STALE = 2, 3
 NAMED_AFTER = 2.0      # [s] after a fault's end its own status is back (chaos_invariants' CLEARED_WITHIN)
 RECOVERED_AFTER = 5.0  # [s] what is computed from it, and the robot, are back (RECOVER_WITHIN)
 RESTART_AFTER = 10.0   # [s, wall] a killed process is back and its topics flow again (respawn, recorder)
+# [s] a fault's window opens this much before its start: the simulator applies a fault in the step
+# that reaches its start, before it publishes that step's /clock, so a node that reports it at
+# once stamps it (and the recorder files it) at the previous /clock, a step earlier.
+CLOCK_LEAD = 0.05
 
 BUS_KINDS = ('board_silent', 'can_bus_off', 'can_reset', 'can_malformed', 'serial_garbage', 'serial_truncate')
 #: The devices that see what a world fault does to the robot.
@@ -76,7 +80,7 @@ def false_alarms(series, start, end, faults, t0, config):
                 excused = False
                 for f in injected:
                     yes, after = explains(f, name, config)
-                    excused = excused or (yes and f['start'] <= t <= f['end'] + after)
+                    excused = excused or (yes and f['start'] - CLOCK_LEAD <= t <= f['end'] + after)
                 if not excused:
                     out.append((t - t0, 'false alarm: "%s" %s at %.1f s, no fault explains it: %s'
                                 % (name, 'ERROR' if level == ERROR else 'STALE', t - t0, (message or '')[:120])))

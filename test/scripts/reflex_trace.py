@@ -117,6 +117,10 @@ class ReflexBench(object):
         self.motor_cob = int(rospy.get_param('/hcl/motor_board/command_cob_id', 0x200 + rospy.get_param('/hcl/motor_board/node_id')))
         self.ranger_cob = int(rospy.get_param('/hcl/servo_board/ranger_cob_id', 0x180 + rospy.get_param('/hcl/servo_board/node_id')))
         self.trigger_distance = rospy.get_param('/brain/triggers/opponent_ahead/distance')
+        # The trigger fires again only once the opponent has been gone clear_time and then
+        # holdoff has passed since its handler ended.
+        self.rearm = (float(rospy.get_param('/brain/triggers/opponent_ahead/clear_time'))
+                      + float(rospy.get_param('/brain/triggers/opponent_ahead/holdoff')))
         self.detection = rospy.get_param('/hal/driver/avoidance/detection_distance')
         self.max_accel = rospy.get_param('/hal/driver/limits/max_linear_accel')
         self.robot_radius = rospy.get_param('/robot/radius')
@@ -275,9 +279,11 @@ class ReflexBench(object):
             if tr:
                 out.append(tr)
             self.park()                          # gone: the trigger clears (clear_time), the brain resumes its idle state
+            t_gone = time.time()
             self.drive_for(-0.25, 0.35)          # back where it was (the rear rangers see nothing)
             self.drive.publish(Twist())
-            time.sleep(1.0)                      # the trigger's clear_time and holdoff have passed
+            # the trigger has re-armed (clear_time, then holdoff) before the next placement
+            time.sleep(max(1.0, self.rearm + 0.2 - (time.time() - t_gone)))
         return out
 
     def avoidance_events(self, n):

@@ -28,6 +28,10 @@ class ReflexLatencyTest(unittest.TestCase):
         events = bench.reflex_events(EVENTS)
         bench.sniffer.close()
         total = sorted(1e3 * (e['bus'] - e['pdo']) for e in events)
+        for e in events:  # where each stop's time went: a failure names the hop
+            print('reflex hops [ms]: ranger frame -> hcl %.1f -> hal %.1f -> brain %.1f -> command %.1f -> bus %.1f' % tuple(
+                1e3 * (e[b] - e[a]) for a, b in (('pdo', 'hcl'), ('hcl', 'hal'), ('hal', 'brain'), ('brain', 'command'),
+                                                 ('command', 'bus'))))
         print('reflex bus frame -> bus frame over %d events: p50 %.1f ms, p99 %.1f ms, max %.1f ms' % (
             len(total), percentile(total, 50), percentile(total, 99), total[-1] if total else float('nan')))
         self.assertGreaterEqual(len(events), EVENTS, 'only %d of %d stops could be traced' % (len(events), EVENTS))

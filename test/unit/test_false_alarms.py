@@ -64,6 +64,15 @@ class FalseAlarmTest(unittest.TestCase):
         self.assertEqual([t.split('"')[1] for _, t in found], ['hcl/beacons: board'])
         self.assertGreaterEqual(len(fa.can_boards(self.config)), 5)
 
+    def test_a_report_one_clock_step_before_the_fault_is_its(self):
+        # The simulator applies the fault before it publishes the step's /clock: the board's
+        # ERROR is stamped with the previous one (as recorded: 1 ms before the start).
+        f = fault('can_bus_off', 'stepper_board', 30.0, 32.0)
+        early = {'hcl/epos: board': [(29.999, ERROR, 'CAN bus is bus-off')]}
+        self.assertEqual(self.alarms(early, [f]), [])
+        before = {'hcl/epos: board': [(29.5, ERROR, 'CAN bus is bus-off')]}  # not a clock step: before it
+        self.assertEqual(len(self.alarms(before, [f])), 1)
+
     def test_a_killed_process_excuses_what_runs_on_it_in_wall_seconds(self):
         kill_hcl = fault('kill', '/hcl', 40.0, 41.0, factor=3.0)
         series = {'process /hcl': [(40.1, ERROR, 'gone')],
