@@ -65,8 +65,8 @@ def changed_world(config, change):
     return over
 
 
-def truth_drift(bag_path, config, tpm_l, tpm_r, track):
-    """[mm/m] the odometry with these values against the simulator's ground truth, 2 s at a time."""
+def truth_segments(bag_path, config):
+    """The driven wheels' counts and the simulator's ground truth of a bag, 2 m stretches at a time."""
     with rosbag.Bag(bag_path) as bag:
         s = sig.read(bag, config)
         truth = sorted((m.header.stamp.to_sec(), m.pose.pose.position.x, m.pose.pose.position.y,
@@ -75,7 +75,11 @@ def truth_drift(bag_path, config, tpm_l, tpm_r, track):
     truth = np.array(truth)
     tl, cl = s.encoders['left']
     tr, cr = s.encoders['right']
-    segs = cf.Segments(tl, cl, np.interp(tl, tr, cr), truth[:, 0], truth[:, 1], truth[:, 2], truth[:, 3], length=2.0)
+    return cf.Segments(tl, cl, np.interp(tl, tr, cr), truth[:, 0], truth[:, 1], truth[:, 2], truth[:, 3], length=2.0)
+
+
+def truth_drift(segs, tpm_l, tpm_r, track):
+    """[mm/m] the odometry with these values against the simulator's ground truth."""
     return cf.odometry_drift(segs, tpm_l, tpm_r, track)
 
 
@@ -156,9 +160,10 @@ class CalibrateRecoveryTest(unittest.TestCase):
 
         # the odometry against the ground truth, before and after
         hal = self.config['hal']['odometry']['pairs']['driven']
-        before = truth_drift(bag, self.config, hal['left_ticks_per_meter'], hal['right_ticks_per_meter'],
+        segs = truth_segments(bag, self.config)  # the bag read once for both
+        before = truth_drift(segs, hal['left_ticks_per_meter'], hal['right_ticks_per_meter'],
                              hal.get('track_width', self.config['robot']['track_width']))
-        after = truth_drift(bag, self.config, driven['left_ticks_per_meter'], driven['right_ticks_per_meter'],
+        after = truth_drift(segs, driven['left_ticks_per_meter'], driven['right_ticks_per_meter'],
                             sim['robot']['wheel_base'])
         print('seed %d: odometry drift against the truth %.1f mm/m before, %.1f mm/m after' % (seed, before, after))
         self.assertLessEqual(after, 0.5 * before, 'seed %d: drift %.1f -> %.1f mm/m' % (seed, before, after))
