@@ -142,9 +142,12 @@ class LocalizationDevice : public Device {
     auto global = [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
       std::lock_guard<std::mutex> lk(filter_mutex_);
       filter_->globalLocalization();
-      // The spread cloud out at once: the next measurement may already narrow it, and
-      // whoever asked (rviz, a test) is to see that the particles were spread.
-      outputs_->publishCloud(ros::Time::now(), filter_->particles());
+      // The spread cloud and "lost" out at once: the next measurement may already narrow it
+      // (the beacons can give the position back in one step), and whoever asked (rviz, the
+      // driver, a test) is to see that the particles were spread.
+      const ros::Time now = ros::Time::now();
+      outputs_->publishCloud(now, filter_->particles());
+      outputs_->publishQuality(now, *filter_);
       ROS_INFO("%s: global localization: particles spread over the free table", name_.c_str());
       return true;
     };

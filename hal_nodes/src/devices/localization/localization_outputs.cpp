@@ -42,6 +42,18 @@ LocalizationOutputs::LocalizationOutputs(ros::NodeHandle& nh, const Localization
   amcl_cloud_pub_ = nh.advertise<geometry_msgs::PoseArray>("/particlecloud", 1);
 }
 
+void LocalizationOutputs::publishQuality(const ros::Time& stamp, const mcl::Filter& filter) {
+  const auto& e = filter.estimate();
+  LocalizationQuality q;
+  q.header.stamp = stamp;
+  q.header.frame_id = map_frame_;
+  q.probability = e.probability;
+  q.lost = e.lost;
+  q.particles = static_cast<uint32_t>(e.particles);
+  q.effective_sample_size = e.ess;
+  quality_pub_.publish(q);
+}
+
 void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const mcl::Filter& filter,
                                   double filter_stamp, const mcl::Pose2D* odom_pose, const mcl::BeaconBelts* beacons,
                                   double last_step, bool force_cloud) {
@@ -57,13 +69,7 @@ void LocalizationOutputs::publish(double at, const mcl::Pose2D& carried, const m
   pose_pub_.publish(pose);
   amcl_pose_pub_.publish(pose);
 
-  LocalizationQuality q;
-  q.header = pose.header;
-  q.probability = e.probability;
-  q.lost = e.lost;
-  q.particles = static_cast<uint32_t>(e.particles);
-  q.effective_sample_size = e.ess;
-  quality_pub_.publish(q);
+  publishQuality(stamp, filter);
 
   if (publish_tf_ && odom_pose) {
     // map -> odom = estimate (map -> base) composed with the inverse of odom -> base at the same

@@ -29,6 +29,8 @@ class LocalizationOutputs {
 
   // The particles on /mcl/particlecloud and /particlecloud (for those subscribed).
   void publishCloud(const ros::Time& stamp, const mcl::ParticleSet& set);
+  // The filter's quality on /mcl/quality (publish() sends it with every estimate).
+  void publishQuality(const ros::Time& stamp, const mcl::Filter& filter);
 
  private:
   // One circle per beacon whose latest range is recent: the belt the particles are weighed by.
