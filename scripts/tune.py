@@ -24,6 +24,8 @@ matches on seeds no trial saw (SEED+HOLDOUT_OFFSET ..., or --holdout-seed K ...:
 set declared before a second look, so that a verdict is never settled by adding seeds to the first
 one until it clears 0), same opponents for both, and the last line is
     trials T best_score B baseline_score S improvement D ci95 [L, H]
+Each arm's matches are tabled as `make matches` tables them (OUT/holdout_best/ROBOT_matches.txt,
+OUT/holdout_shipped/...): `scripts/scoreboard.py --judge ROBOT=OUT/holdout_best` judges them.
 B and S: our mean score on the held-out seeds with the best overlay and with the shipped config;
 D = B - S and its 95 % interval (paired t). An interval that contains 0 is no improvement.
 """
@@ -151,6 +153,18 @@ def held_out_seeds(seed, seeds, holdout, holdout_seed=None):
         raise ValueError('held-out seeds %d..%d overlap the trials\' seeds %d..%d' % (
             first, first + holdout - 1, seed, seed + seeds - 1))
     return held_out
+
+
+def write_matches_table(folder, robot, rows, factor):
+    """One arm of the verdict as `make matches` writes its table (FOLDER/ROBOT_matches.txt), so
+    `make play`'s judge (scripts/scoreboard.py --judge ROBOT=FOLDER) reads its stalls and idle."""
+    violations = [(r.seed, v) for r in rows for v in r.violations]
+    lines = run_matches.table_lines(rows) + ['violation: seed %d: %s' % sv for sv in violations]
+    wall = sum(r.wall or 0.0 for r in rows)
+    lines.append(run_matches.closing_line(rows, len(violations), wall, factor))
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, '%s_matches.txt' % robot), 'w') as f:
+        f.write('\n'.join(lines) + '\n')
 
 
 def jobs_for(args, seeds, params, out):
@@ -289,6 +303,8 @@ def main():
                            os.path.join(args.out, 'holdout_shipped')))
             tuned, shipped = rows[:holdout], rows[holdout:]
             retried += r
+            for arm, arm_rows in (('holdout_best', tuned), ('holdout_shipped', shipped)):
+                write_matches_table(os.path.join(args.out, arm), args.robot, arm_rows, args.factor)
         else:
             log('no verdict (--holdout 0)')
     finally:

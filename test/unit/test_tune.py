@@ -74,6 +74,23 @@ class SpaceTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             tune.held_out_seeds(1, 3, 5, holdout_seed=-1)  # -1 .. 3 includes seeds 1-3
 
+    def test_a_verdict_arm_is_tabled_for_the_scoreboard(self):
+        import shutil
+        import tempfile
+        import scoreboard
+        folder = tempfile.mkdtemp(prefix='test_tune_')
+        try:
+            rows = [row(12, seed=7)._replace(opponent='player', theirs=18, wall=40.0, idle=3.5, stalls=0),
+                    row(9, seed=8, violations=['our robot left the table'])._replace(opponent='blocker', theirs=0,
+                                                                                    wall=41.0, idle=6.0, stalls=1)]
+            tune.write_matches_table(os.path.join(folder, 'holdout_best'), 'eurobot2009', rows, 0.0)
+            table, violations = scoreboard.read_table(os.path.join(folder, 'holdout_best', 'eurobot2009_matches.txt'))
+        finally:
+            shutil.rmtree(folder)
+        self.assertEqual(violations, 1)
+        self.assertEqual([(r['seed'], r['opponent'], r['ours'], r['idle_s'], r['stalls']) for r in table],
+                         [(7.0, 'player', 12.0, 3.5, 0.0), (8.0, 'blocker', 9.0, 6.0, 1.0)])
+
     def test_both_robots_can_be_tuned(self):
         self.assertEqual(TUNED, ['eurobot2009', 'logion'])
 
