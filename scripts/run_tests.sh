@@ -16,23 +16,15 @@ lint_out=$(catkin_lint -W1 src 2>&1); lint_rc=$?
 echo "$lint_out" | tail -n 20
 lint_problems=$(echo "$lint_out" | grep -cE 'error:|warning:|cannot lint' || true)  # a package it could not read is a problem too
 
-# Test binaries build in parallel; the tests themselves run one at a time, so rate and
-# latency checks never compete with each other for the two cores.
+# Test binaries build in parallel; the tests run one at a time (TEST_JOBS=N overlaps them on a
+# machine with more cores: scripts/test_pool.py says why not on two).
 catkin_make -j2 -DCATKIN_ENABLE_TESTING=ON tests 2>&1 | grep -E 'error|warning' | head -n 50
-quiet_make='^(-- |\[ *[0-9]+%\]|Scanning|Consolidate|Built target|make\[[0-9]\]: (Entering|Leaving))'
 if [ "$quick" = 1 ]; then
   echo "== gtests, nosetests and fuzz targets (no simulation, no master)"
-  # Every package's run_tests_<pkg>_{gtest,nosetests,fuzz}_<name> target, minus the nosetests
-  # that play a simulated match.
-  needs_simulation='nosetests_unit.test_new_robot.py'
-  targets=$(make -C build help 2>/dev/null | grep -oE 'run_tests_[A-Za-z0-9_]+_(gtest|nosetests|fuzz)_[^ ]+' |
-            grep -vF "$needs_simulation" | sort -u)
-  for t in $targets; do
-    make -C build -j1 "$t" 2>&1 | grep -vE "$quiet_make" | tail -n 40
-  done
+  python3 "$root/scripts/test_pool.py" --quick --jobs "${TEST_JOBS:-1}"
 else
-  echo "== unit tests and rostests"
-  catkin_make run_tests -j1 -DCATKIN_ENABLE_TESTING=ON 2>&1 | grep -vE "$quiet_make" | tail -n 600
+  echo "== unit tests and rostests (scripts/test_pool.py, ${TEST_JOBS:-1} at a time)"
+  python3 "$root/scripts/test_pool.py" --jobs "${TEST_JOBS:-1}"
   echo "== the recipes of docs/adding.md: a board and a device added as a user does (scripts/check_recipe.sh)"
   bash "$root/scripts/check_recipe.sh" build/test_results/recipe/recipe_check.xml 2>&1 | grep '^recipe:'
 fi

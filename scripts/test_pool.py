@@ -1,0 +1,241 @@
+#!/usr/bin/env python3
+"""Runs the workspace's test targets (catkin's run_tests_<package>_<kind>_<name>) one after the
+other, or on a pool of --jobs slots, longest first, and says what each one cost.
+
+A simulated stack keeps about one core busy, at real-time factor 1 as much as at full speed (the
+cost is in deliveries and wake-ups: docs/message-budget.md), so on two cores tests side by side
+only stretch each other, and a stretched stack misses its own watchdogs (`process /brain: not
+answering within 0.20 s`). `make test` therefore runs one test at a time (TEST_JOBS=1). On a
+machine with more cores, TEST_JOBS=N overlaps them: each test keeps its own ROS master (rostest
+picks a free port) and its own emulator ports (two tests that share a port never run together),
+the HEAVY ones never run beside each other, and a RUN_ALONE one runs with nothing beside it.
+
+Prints one line per test as it ends (wall seconds, CPU seconds of the test and everything it
+started, result), the output of a test that failed, and a closing line; writes the figures to
+build/test_durations.json, which the next run on this tree orders by.
+
+  test_pool.py [--jobs N] [--quick] [--only REGEX] [--list]
+Called by run_tests.sh with the workspace sourced, once the test binaries are built.
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BUILD = os.path.join(ROOT, 'build')
+DURATIONS = os.path.join(BUILD, 'test_durations.json')
+
+# Tests that measure latency or rates: anything beside them would measure the machine.
+RUN_ALONE = {
+    'run_tests_system_tests_rostest_launch_reflex_latency.test': 'measures the reflex latency p99',
+}
+# Tests that keep a core busy for minutes (matches played as fast as the machine goes, a VM in
+# software emulation): two of them side by side trip each other's watchdogs.
+HEAVY = {'run_tests_system_tests_rostest_launch_%s.test' % name for name in (
+    'calibrate_recovery_eurobot2009', 'chaos_smoke', 'matches_smoke', 'matches_cluster', 'tune_smoke',
+    'soak_smoke', 'match_respawn_eurobot2009', 'match_blocked_eurobot2009', 'match_blocked_logion',
+    'match_faults_eurobot2009')} | {'run_tests_system_tests_nosetests_unit.test_new_robot.py',
+                                    'run_tests_system_tests_vm_can_socketcan'}
+# Tests outside rostest that play simulated matches, with their expected wall seconds (the rest of
+# the gtests, nosetests and fuzz targets take seconds).
+SIMULATED = {
+    'run_tests_system_tests_nosetests_unit.test_new_robot.py': 300,
+    'run_tests_system_tests_vm_can_socketcan': 150,
+}
+QUICK_KINDS = ('gtest', 'nosetests', 'fuzz')
+
+
+def targets():
+    """Every run_tests_<pkg>_<kind>_<name> target the build knows."""
+    out = subprocess.run(['make', '-C', BUILD, 'help'], capture_output=True, text=True, check=True).stdout
+    names = set(re.findall(r'\b(run_tests_[A-Za-z0-9_]+?_(?:gtest|nosetests|fuzz|rostest|vm)_\S+)', out))
+    return sorted(n for n in names if not n.startswith('run_tests_' + 'all'))
+
+
+def package_dirs():
+    dirs = {}
+    for xml in glob.glob(os.path.join(ROOT, 'src', '*', 'package.xml')):
+        name = ET.parse(xml).getroot().findtext('name')
+        dirs[name] = os.path.realpath(os.path.dirname(xml))
+    return dirs
+
+
+def rostest_file(target, packages):
+    """The .test file of a rostest target: its path in the package, '/' spelled '_' in the name."""
+    for pkg, d in packages.items():
+        prefix = 'run_tests_%s_rostest_' % pkg
+        if target.startswith(prefix):
+            flat = target[len(prefix):]
+            for path in glob.glob(os.path.join(d, '**', '*.test'), recursive=True):
+                if os.path.relpath(path, d).replace('/', '_') == flat:
+                    return path
+    return None
+
+
+def time_limit(test_file):
+    """The sum of the file's <test time-limit=...> (rostest's default is 60 s)."""
+    root = ET.parse(test_file).getroot()
+    return sum(float(t.get('time-limit', 60)) for t in root.iter('test'))
+
+
+def fixed_ports(test_file):
+    """The loopback ports and /tmp folders a .test gives its emulators: two tests side by side
+    must not share one."""
+    text = open(test_file).read()
+    found = set(re.findall(r'127\.0\.0\.1:(\d+)', text))
+    found |= {p for p in re.findall(r'name="camera_port" value="(\d+)"', text)}
+    return found
+
+
+def estimate(target, test_file, history):
+    if target in history:
+        return history[target]['wall_s']
+    if target in SIMULATED:
+        return SIMULATED[target]
+    if test_file:
+        return time_limit(test_file) / 3.0  # the limits leave about 3x room
+    return 10.0
+
+
+def run(target, log_dir):
+    """Starts one target; returns (process, log path, start time)."""
+    log = os.path.join(log_dir, target + '.log')
+    with open(log, 'w') as f:
+        proc = subprocess.Popen(['make', '-C', BUILD, '-j1', target], stdout=f, stderr=subprocess.STDOUT,
+                                cwd=ROOT)
+    return proc, log, time.monotonic()
+
+
+def result_file(target):
+    """The JUnit file catkin's run_tests.py writes for a target (the first argument in its rule)."""
+    for rule in glob.glob(os.path.join(BUILD, '*', 'CMakeFiles', target + '.dir', 'build.make')):
+        m = re.search(r'run_tests\.py (\S+\.xml)', open(rule).read())
+        if m:
+            return m.group(1)
+    return None
+
+
+def result_files(target, test_file):
+    """The JUnit files a target writes: catkin's, and for a rostest one per <test test-name=...>
+    (rostest's own file says only whether the launch came up)."""
+    path = result_file(target)
+    if not path:
+        return []
+    files = [path]
+    if test_file:
+        files += [os.path.join(os.path.dirname(path), 'rosunit-%s.xml' % t.get('test-name'))
+                  for t in ET.parse(test_file).getroot().iter('test')]
+    return files
+
+
+def result_failed(target, test_file):
+    """True when one of the target's JUnit files is missing, unreadable or reports a failure or error."""
+    files = result_files(target, test_file)
+    for path in files:
+        if not os.path.exists(path):
+            return True
+        try:
+            root = ET.parse(path).getroot()
+        except ET.ParseError:
+            return True
+        suites = [root] if root.tag == 'testsuite' else list(root.iter('testsuite'))
+        if any(int(s.get('errors', 0) or 0) + int(s.get('failures', 0) or 0) for s in suites):
+            return True
+    return not files
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--jobs', type=int, default=int(os.environ.get('TEST_JOBS', 1)),
+                    help='tests at once (default TEST_JOBS or 1)')
+    ap.add_argument('--quick', action='store_true', help='gtests, nosetests and fuzz targets only, no simulation')
+    ap.add_argument('--only', help='run only the targets matching this regular expression')
+    ap.add_argument('--list', action='store_true', help='print the targets in the order they would start')
+    args = ap.parse_args()
+
+    packages = package_dirs()
+    history = {}
+    if os.path.exists(DURATIONS):
+        with open(DURATIONS) as f:
+            history = json.load(f)
+    todo = []
+    for t in targets():
+        kind = re.match(r'run_tests_.+?_(gtest|nosetests|fuzz|rostest|vm)_', t).group(1)
+        if args.quick and (kind not in QUICK_KINDS or t in SIMULATED):
+            continue
+        if args.only and not re.search(args.only, t):
+            continue
+        test_file = rostest_file(t, packages) if kind == 'rostest' else None
+        todo.append({'target': t, 'file': test_file, 'estimate': estimate(t, test_file, history),
+                     'ports': fixed_ports(test_file) if test_file else set()})
+    todo.sort(key=lambda x: -x['estimate'])
+    if args.list:
+        for x in todo:
+            print('%7.0f s  %s%s' % (x['estimate'], x['target'], '  (alone)' if x['target'] in RUN_ALONE else
+                                     '  (heavy)' if x['target'] in HEAVY else ''))
+        return 0
+
+    log_dir = tempfile.mkdtemp(prefix='test_pool_')
+    running = {}   # pid -> (item, proc, log, start, cpu before)
+    done = []
+    failed = []
+    start_all = time.monotonic()
+    while todo or running:
+        busy_ports = set().union(*[r[0]['ports'] for r in running.values()]) if running else set()
+        alone_running = any(r[0]['target'] in RUN_ALONE for r in running.values())
+        heavy_running = any(r[0]['target'] in HEAVY for r in running.values())
+        started = False
+        for x in list(todo):
+            if len(running) >= args.jobs or alone_running:
+                break
+            if x['target'] in RUN_ALONE and running:
+                break  # wait until the pool drains, then it runs by itself
+            if x['ports'] & busy_ports or (x['target'] in HEAVY and heavy_running):
+                continue
+            proc, log, t0 = run(x['target'], log_dir)
+            running[proc.pid] = (x, proc, log, t0)
+            todo.remove(x)
+            started = True
+            alone_running = x['target'] in RUN_ALONE
+            heavy_running |= x['target'] in HEAVY
+            busy_ports |= x['ports']
+        if not running:
+            if todo and not started:
+                sys.exit('test_pool: nothing can start: %s' % [x['target'] for x in todo])
+            continue
+        pid, status, usage = os.wait4(-1, 0)
+        if pid not in running:
+            continue
+        x, proc, log, t0 = running.pop(pid)
+        wall = time.monotonic() - t0
+        cpu = usage.ru_utime + usage.ru_stime
+        rc = os.waitstatus_to_exitcode(status)
+        bad = rc != 0 or result_failed(x['target'], x['file'])
+        done.append((x['target'], wall, cpu, bad))
+        print('%-8s %6.1f s wall %6.1f s CPU  %s' % ('FAILED' if bad else 'ok', wall, cpu, x['target']), flush=True)
+        if bad:
+            failed.append(x['target'])
+            with open(log) as f:
+                lines = [l for l in f if not re.match(r'^(-- |\[ *\d+%\]|Scanning|Built target|make\[\d\]: )', l)]
+            sys.stdout.write(''.join(lines[-200:]))
+            sys.stdout.flush()
+    total = time.monotonic() - start_all
+    history.update({t: {'wall_s': round(w, 1), 'cpu_s': round(c, 1)} for t, w, c, _ in done})
+    with open(DURATIONS, 'w') as f:
+        json.dump(history, f, indent=1, sort_keys=True)
+    cpu = sum(c for _, _, c, _ in done)
+    print('test_pool: %d targets in %.0f s on %d slots (%.0f s of test wall time, %.0f CPU s); %d failed'
+          % (len(done), total, args.jobs, sum(w for _, w, _, _ in done), cpu, len(failed)))
+    return 1 if failed else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
