@@ -442,6 +442,16 @@ def table_lines(rows):
     return lines
 
 
+def summary_lines(rows, wall, factor, notes=()):
+    """The table `make matches` prints and writes: a row per match, the violations, NOTES, the
+    results per opponent and in all, and the closing line (tune.py writes its verdict's arms so)."""
+    violations = [(r.seed, v) for r in rows for v in r.violations]
+    lines = table_lines(rows) + ['violation: seed %d: %s' % sv for sv in violations] + list(notes)
+    lines += [results_line([r for r in rows if r.opponent == kind], 'opponent ' + kind)
+              for kind in OPPONENTS if any(r.opponent == kind for r in rows)]
+    return lines + [results_line(rows), closing_line(rows, len(violations), wall, factor)]
+
+
 def closing_line(rows, violations, wall, factor):
     scores = [r.ours for r in rows if r.ours is not None]
     mean = sum(scores) / float(len(scores)) if scores else float('nan')
@@ -570,20 +580,16 @@ def main():
         return 130
 
     wall = time.monotonic() - began
-    violations = [(r.seed, v) for r in rows for v in r.violations]
-    lines = table_lines(rows) + ['violation: seed %d: %s' % sv for sv in violations]
     png = os.path.join(args.out, '%s_matches.png' % args.robot)
     summary_png(rows, png, args.robot, args.factor)
-    lines += ['summary: %s' % png, 'cluster: %d workers, %d retries' % (workers, retried)]
-    lines += [results_line([r for r in rows if r.opponent == kind], 'opponent ' + kind)
-              for kind in OPPONENTS if any(r.opponent == kind for r in rows)]
-    lines += [results_line(rows), closing_line(rows, len(violations), wall, args.factor)]
+    lines = summary_lines(rows, wall, args.factor,
+                          ['summary: %s' % png, 'cluster: %d workers, %d retries' % (workers, retried)])
     with open(os.path.join(args.out, '%s_matches.txt' % args.robot), 'w') as f:
         f.write('\n'.join(lines) + '\n')
     if own_folder:
         lines.insert(len(lines) - 2, 'folder: %s (%s)' % (args.out, run_folders.mark_complete(args.out, 'matches_latest')))
     print('\n'.join(lines), flush=True)
-    return 1 if violations else 0
+    return 1 if any(r.violations for r in rows) else 0
 
 
 if __name__ == '__main__':

@@ -158,10 +158,7 @@ def held_out_seeds(seed, seeds, holdout, holdout_seed=None):
 def write_matches_table(folder, robot, rows, factor):
     """One arm of the verdict as `make matches` writes its table (FOLDER/ROBOT_matches.txt), so
     `make play`'s judge (scripts/scoreboard.py --judge ROBOT=FOLDER) reads its stalls and idle."""
-    violations = [(r.seed, v) for r in rows for v in r.violations]
-    lines = run_matches.table_lines(rows) + ['violation: seed %d: %s' % sv for sv in violations]
-    wall = sum(r.wall or 0.0 for r in rows)
-    lines.append(run_matches.closing_line(rows, len(violations), wall, factor))
+    lines = run_matches.summary_lines(rows, sum(r.wall or 0.0 for r in rows), factor)
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, '%s_matches.txt' % robot), 'w') as f:
         f.write('\n'.join(lines) + '\n')
