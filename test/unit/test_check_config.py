@@ -81,7 +81,8 @@ class CheckConfigTest(unittest.TestCase):
         code, _, err, _ = run(['no_such_robot'])
         self.assertEqual(code, 2)
         self.assertIn('no_such_robot.yaml', err)
-        self.assertIn('eurobot2009', err)  # the robots there are
+        listed = err.split('robots here: ', 1)[1].split(')', 1)[0].split(', ')
+        self.assertEqual(listed, robots())  # the robots there are, and no other config
         path = self.overlay('hal: [1\n')
         code, _, err, _ = run(['eurobot2009', '--overlay', path])
         self.assertEqual(code, 1)
