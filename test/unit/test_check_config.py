@@ -9,6 +9,8 @@ import tempfile
 import time
 import unittest
 
+import yaml
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))  # the checkout, not the src/ symlink
 CHECK = os.path.join(ROOT, 'robot_description', 'scripts', 'check_config')
 # The check answers in about 2 s here; the bound keeps a loaded CI machine from failing it while
@@ -76,6 +78,46 @@ class CheckConfigTest(unittest.TestCase):
         fixed = self.overlay('hal:\n  driver:\n    limits: {max_linear_speed: 0.4}\n')
         code, _, err, _ = run(['eurobot2009', '--overlay', bad + ',' + fixed])
         self.assertEqual(code, 0, err)
+
+    def moved_to_the_other_zone(self, robot, also_the_rest):
+        """An overlay that starts the simulated robot in the start zone it does not start in, with
+        (also_the_rest) or without the side switch, initial_pose and opponent moved along; read from
+        the robot's own config."""
+        def load(name):
+            with open(os.path.join(ROOT, 'config', name)) as f:
+                return yaml.safe_load(f)
+        config, sim = load(robot + '.yaml'), load(robot + '.sim.yaml')
+        zones = config['table']['start_zones']
+        start = sim['sim']['world']['robot']['start']
+        inside = lambda p, z: z['rect'][0] <= p[0] <= z['rect'][2] and z['rect'][1] <= p[1] <= z['rect'][3]
+        ours = next(z for z in zones if inside(start, z))
+        other = next(z for z in zones if z is not ours)
+        centre = lambda z: [(z['rect'][0] + z['rect'][2]) / 2, (z['rect'][1] + z['rect'][3]) / 2]
+        there = centre(other) + [3.14159]
+        tree = {'sim': {'world': {'robot': {'start': there}}}}
+        if also_the_rest:
+            hmi = config['hal']['hmi']
+            switch = hmi['side_switch']['input']
+            tree['sim']['world']['robot']['switches'] = {switch: {'closed': hmi['sides'].index(other['name']) == 1}}
+            tree['sim']['world']['opponent'] = {'start': centre(ours) + [0.0]}
+            tree['hal'] = {'localization': {'initial_pose': there}}
+        return self.overlay(yaml.safe_dump(tree)), other['name']
+
+    def test_the_start_zone_decides_side_switch_initial_pose_and_opponent(self):
+        path, zone = self.moved_to_the_other_zone('eurobot2009', also_the_rest=False)
+        errors = self.refused(['eurobot2009', '--overlay', path],
+                              "/closed = false: the side switch then says",
+                              "/hal/localization/initial_pose = [",
+                              "/sim/world/opponent/start = [")
+        self.assertEqual(len(errors), 3)
+        self.assertTrue(all('starts in the %s zone' % zone in e for e in errors), errors)
+        path, _ = self.moved_to_the_other_zone('eurobot2009', also_the_rest=True)
+        code, _, err, _ = run(['eurobot2009', '--overlay', path])
+        self.assertEqual(code, 0, err)
+
+    def test_a_simulated_start_outside_every_start_zone(self):
+        path = self.overlay('sim:\n  world:\n    robot: {start: [1.5, 1.0, 0.0]}\n')
+        self.refused(['logion', '--overlay', path], '/sim/world/robot/start = [1.5, 1.0, 0.0]: in no start zone')
 
     def test_unreadable_files_are_named(self):
         code, _, err, _ = run(['no_such_robot'])
