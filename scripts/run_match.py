@@ -122,11 +122,11 @@ def main():
         raise
     finally:
         log('stopping the robot')
-        os.killpg(proc.pid, signal.SIGINT)
+        signal_group(proc.pid, signal.SIGINT)
         try:
             proc.wait(timeout=30)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
+            signal_group(proc.pid, signal.SIGKILL)
         if sim_dir:
             shutil.rmtree(sim_dir, ignore_errors=True)
     log('launch output: %s' % launch_log.name)
@@ -161,6 +161,14 @@ def die_with_parent():
 def own_session_dying_with_parent():
     os.setsid()  # the launch's whole process group is stopped at the end (killpg)
     die_with_parent()
+
+
+def signal_group(pid, sig):
+    """Signals the launch's process group; a launch that already ended (a refused config) has none."""
+    try:
+        os.killpg(pid, sig)
+    except ProcessLookupError:
+        pass
 
 
 def free_port(kind):
