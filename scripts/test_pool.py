@@ -22,7 +22,6 @@ import glob
 import json
 import os
 import re
-import resource
 import subprocess
 import sys
 import tempfile
@@ -57,7 +56,7 @@ def targets():
     """Every run_tests_<pkg>_<kind>_<name> target the build knows."""
     out = subprocess.run(['make', '-C', BUILD, 'help'], capture_output=True, text=True, check=True).stdout
     names = set(re.findall(r'\b(run_tests_[A-Za-z0-9_]+?_(?:gtest|nosetests|fuzz|rostest|vm)_\S+)', out))
-    return sorted(n for n in names if not n.startswith('run_tests_' + 'all'))
+    return sorted(names)
 
 
 def package_dirs():
@@ -87,8 +86,8 @@ def time_limit(test_file):
 
 
 def fixed_ports(test_file):
-    """The loopback ports and /tmp folders a .test gives its emulators: two tests side by side
-    must not share one."""
+    """The loopback ports a .test gives its emulators (CAN over UDP, the camera): two tests side by
+    side must not share one."""
     text = open(test_file).read()
     found = set(re.findall(r'127\.0\.0\.1:(\d+)', text))
     found |= {p for p in re.findall(r'name="camera_port" value="(\d+)"', text)}
