@@ -35,6 +35,12 @@ run() {  # run MODE BRAIN_TRIGGER
   roslaunch -p $port "$root/scripts/bench/latency.launch" brain_trigger:=$2 >"$log/launch_$1.log" 2>&1 &
   launch=$!
   for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
+  if ! kill -0 "$launch" 2>/dev/null; then  # a refused config ends the launch at once: say so, do not wait on it
+    echo "latency bench ($1) FAILED: the launch ended before the robot came up; launch log tail:"
+    tail -20 "$log/launch_$1.log"
+    status=1; launch=
+    return
+  fi
   if [ -n "$stress" ]; then  # the load starts once the robot is up: the bench measures a loaded robot, not a slow start
     stress-ng --cpu "$(nproc)" --quiet &
     stress_pid=$!
