@@ -58,6 +58,7 @@ import sys
 import time
 
 import yaml
+from robot_core import start_zone
 
 SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(SCRIPTS)
@@ -132,18 +133,10 @@ def zone_centre(zone):
     return [(x0 + x1) / 2.0, (y0 + y1) / 2.0]
 
 
-def inside(rect, x, y, grow=0.0):
-    x0, y0, x1, y1 = rect
-    return x0 - grow <= x <= x1 + grow and y0 - grow <= y <= y1 + grow
-
-
 def our_colour(config):
     """The start zone our robot starts in (the referee's rule for our colour), else `red`."""
     start = config['sim']['world']['robot'].get('start', [0.25, 1.8, 0.0])
-    for zone in config['table'].get('start_zones', []):
-        if inside(zone['rect'], start[0], start[1]):
-            return zone['name']
-    return 'red'
+    return start_zone.zone_of(start, config['table'].get('start_zones', [])) or 'red'
 
 
 def our_goal(config):

@@ -36,19 +36,18 @@ DURATIONS = os.path.join(BUILD, 'test_durations.json')
 RUN_ALONE = {
     'run_tests_system_tests_rostest_launch_reflex_latency.test': 'measures the reflex latency p99',
 }
+# Tests outside rostest that play simulated matches or boot a VM, with their expected wall seconds
+# (the rest of the gtests, nosetests and fuzz targets take seconds).
+SIMULATED = {
+    'run_tests_system_tests_nosetests_unit.test_new_robot.py': 300,
+    'run_tests_system_tests_vm_can_socketcan': 150,
+}
 # Tests that keep a core busy for minutes (matches played as fast as the machine goes, a VM in
 # software emulation): two of them side by side trip each other's watchdogs.
 HEAVY = {'run_tests_system_tests_rostest_launch_%s.test' % name for name in (
     'calibrate_recovery_eurobot2009', 'chaos_smoke', 'matches_smoke', 'matches_cluster', 'tune_smoke',
     'soak_smoke', 'match_respawn_eurobot2009', 'match_blocked_eurobot2009', 'match_blocked_logion',
-    'match_faults_eurobot2009')} | {'run_tests_system_tests_nosetests_unit.test_new_robot.py',
-                                    'run_tests_system_tests_vm_can_socketcan'}
-# Tests outside rostest that play simulated matches, with their expected wall seconds (the rest of
-# the gtests, nosetests and fuzz targets take seconds).
-SIMULATED = {
-    'run_tests_system_tests_nosetests_unit.test_new_robot.py': 300,
-    'run_tests_system_tests_vm_can_socketcan': 150,
-}
+    'match_faults_eurobot2009')} | set(SIMULATED)
 QUICK_KINDS = ('gtest', 'nosetests', 'fuzz')
 
 
@@ -188,7 +187,7 @@ def main():
     failed = []
     start_all = time.monotonic()
     while todo or running:
-        busy_ports = set().union(*[r[0]['ports'] for r in running.values()]) if running else set()
+        busy_ports = set().union(*[r[0]['ports'] for r in running.values()])
         alone_running = any(r[0]['target'] in RUN_ALONE for r in running.values())
         heavy_running = any(r[0]['target'] in HEAVY for r in running.values())
         started = False

@@ -2,7 +2,8 @@
 switch, the localization's initial_pose and the opponent's start must agree with the start zone
 the robot stands in (table/start_zones), or the robot plays one colour while the referee counts
 the other. check_config runs these rules over the merged config; each error is one line naming
-the parameter, its value and what would agree.
+the parameter, its value and what would agree. zone_of is the one answer to "which start zone
+holds this point" (the match runner's colour, the 2008 strategy's).
 
 The side switch: a HumanInterface device's `side_switch: {input: NAME}` reads a board input that
 the simulator wires to the world switch of the same name (sim/world/robot/switches/NAME); open
@@ -64,10 +65,11 @@ def errors(tree):
                           str(ours == sides[1]).lower()))
     for name, loc in blocks_of_type(tree, 'hal', 'Localization'):
         pose = loc.get('initial_pose')
-        if _pose(pose) and zone_of(pose, zones) != ours:
+        zone = zone_of(pose, zones) if _pose(pose) else ours
+        if zone != ours:
             out.append('parameter /hal/%s/initial_pose = %s: in %s but %s; allowed: a pose in the %s zone %s'
-                       % (name, list(pose), 'the %s zone' % zone_of(pose, zones) if zone_of(pose, zones) else
-                          'no start zone', where, ours, [list(z['rect']) for z in zones if z['name'] == ours][0]))
+                       % (name, list(pose), 'the %s zone' % zone if zone else 'no start zone', where, ours,
+                          [list(z['rect']) for z in zones if z['name'] == ours][0]))
     opponent = world.get('opponent') or {}
     if opponent.get('enabled', False) and _pose(opponent.get('start')):
         theirs = zone_of(opponent['start'], zones)

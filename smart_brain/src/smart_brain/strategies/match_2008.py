@@ -258,11 +258,8 @@ class Match2008Strategy(MachineStrategy):
 
     def _colour_at(self, pose):
         import rospy
-        for z in rospy.get_param('/table/start_zones', []):
-            x0, y0, x1, y1 = z['rect']
-            if min(x0, x1) <= pose[0] <= max(x0, x1) and min(y0, y1) <= pose[1] <= max(y0, y1):
-                return z['name']
-        return 'red'
+        from robot_core.start_zone import zone_of
+        return zone_of(pose, rospy.get_param('/table/start_zones', [])) or 'red'
 
     def _note_blocked(self, state):
         r = state.result
