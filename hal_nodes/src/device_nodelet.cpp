@@ -14,9 +14,27 @@ constexpr double kGatherLimit = 0.004;  // [s, ROS time]
 }  // namespace
 
 using diagnostic_msgs::DiagnosticStatus;
-using robot_core::optionalDouble;
-using robot_core::requireDouble;
-using robot_core::requirePositive;
+
+DeviceSettings DeviceSettings::read(const robot_core::Params& p) {
+  DeviceSettings s;
+  s.rate = p.requireDouble("rate");
+  p.requirePositive("rate", s.rate);
+  // The ceiling of the runs that inputs wake (robot_core/loop_pacer.h): above the rate of the
+  // streams that wake the device, or each of their readings ends up waiting for its token.
+  s.max_rate = p.optionalDouble("max_rate", s.rate);
+  p.requireInRange("max_rate", s.max_rate, s.rate, 10.0 * s.rate);
+  s.diagnostic_period = p.optionalDouble("diagnostic_period", 1.0);
+  p.requirePositive("diagnostic_period", s.diagnostic_period);
+  s.startup_grace = p.optionalDouble("startup_grace", 5.0);
+  p.requireInRange("startup_grace", s.startup_grace, 0.0, 600.0);
+  s.required = p.optionalBool("required", true);
+  return s;
+}
+
+void DeviceNodeletBase::readConfig(const robot_core::Params& params) const {
+  DeviceSettings::read(params);
+  createDevice()->configure(params);
+}
 
 DeviceNodeletBase::~DeviceNodeletBase() {
   {
@@ -40,24 +58,20 @@ DeviceNodeletBase::~DeviceNodeletBase() {
 void DeviceNodeletBase::onInit() {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   try {
-    DeviceContext ctx{getNodeHandle(), pnh, getName(), 0.0};
-    ctx.rate = requireDouble(pnh, "rate");
-    requirePositive(pnh, "rate", ctx.rate);
-    rate_ = ctx.rate;
-    // The ceiling of the runs that inputs wake (robot_core/loop_pacer.h): above the rate of the
-    // streams that wake the device, or each of their readings ends up waiting for its token.
-    max_rate_ = optionalDouble(pnh, "max_rate", rate_);
-    robot_core::requireInRange(pnh, "max_rate", max_rate_, rate_, 10.0 * rate_);
-    const double diagnostic_period = optionalDouble(pnh, "diagnostic_period", 1.0);
-    requirePositive(pnh, "diagnostic_period", diagnostic_period);
-    startup_grace_ = optionalDouble(pnh, "startup_grace", 5.0);
-    robot_core::requireInRange(pnh, "startup_grace", startup_grace_, 0.0, 600.0);
-    required_ = robot_core::optionalBool(pnh, "required", true);
+    const robot_core::Params params = robot_core::Params::of(pnh);
+    const DeviceSettings settings = DeviceSettings::read(params);
+    DeviceContext ctx{getNodeHandle(), pnh, getName(), settings.rate};
+    rate_ = settings.rate;
+    max_rate_ = settings.max_rate;
+    const double diagnostic_period = settings.diagnostic_period;
+    startup_grace_ = settings.startup_grace;
+    required_ = settings.required;
     started_ = ros::Time::now();
 
     pacer_ = robot_core::LoopPacer(1.0 / rate_, 1.0 / max_rate_);
     device_ = createDevice();
     device_->setWakeHandler([this](const ros::Time& stamp) { wake(stamp); });
+    device_->configure(params);
     device_->init(ctx);
     effector_ = dynamic_cast<Effector*>(device_.get());
 

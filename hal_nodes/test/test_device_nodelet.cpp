@@ -34,6 +34,7 @@ Probe probe;
 
 class ProbeEffector : public hal_nodes::Effector {
  public:
+  void configure(const robot_core::Params&) override {}
   void init(hal_nodes::DeviceContext&) override {}
   void refresh() override {
     ++probe.refreshes;

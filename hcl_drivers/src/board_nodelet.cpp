@@ -6,11 +6,11 @@
 #include <chrono>
 
 #include "hcl_drivers/loop_scheduler.h"
-#include <robot_core/parameters.h>
+#include <robot_core/params.h>
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // the framework reads ~parameters as boards do
+using robot_core::ParameterError;
 
 using diagnostic_msgs::DiagnosticStatus;
 
@@ -27,24 +27,34 @@ BoardNodeletBase::~BoardNodeletBase() {
   }
 }
 
+BoardSettings BoardSettings::read(const robot_core::Params& p) {
+  BoardSettings s;
+  s.rate = p.requireDouble("rate");
+  p.requirePositive("rate", s.rate);
+  s.stale_timeout = p.optionalDouble("stale_timeout", std::max(0.3, 3.0 / s.rate));
+  p.requirePositive("stale_timeout", s.stale_timeout);
+  s.reopen_period = p.optionalDouble("reopen_period", 1.0);
+  p.requirePositive("reopen_period", s.reopen_period);
+  s.required = p.optionalBool("required", true);
+  s.loop = p.optionalString("loop", "");
+  s.diagnostic_period = p.optionalDouble("diagnostic_period", 1.0);
+  p.requirePositive("diagnostic_period", s.diagnostic_period);
+  const int failures_for_error = p.optionalInt("failures_for_error", 3);
+  p.requireInRange("failures_for_error", failures_for_error, 1, 1000);
+  s.failures_for_error = static_cast<unsigned long>(failures_for_error);
+  return s;
+}
+
+void BoardNodeletBase::readConfig(const robot_core::Params& params) const {
+  BoardSettings::read(params);
+  createBoard()->configure(params);
+}
+
 void BoardNodeletBase::onInit() {
-  ros::NodeHandle& pnh = getPrivateNodeHandle();
   member_name_ = getName();
-  double diagnostic_period = 1.0;
+  params_ = robot_core::Params::of(getPrivateNodeHandle());
   try {
-    rate_ = requireDouble(pnh, "rate");
-    requirePositive(pnh, "rate", rate_);
-    stale_timeout_ = optionalDouble(pnh, "stale_timeout", std::max(0.3, 3.0 / rate_));
-    requirePositive(pnh, "stale_timeout", stale_timeout_);
-    reopen_period_ = optionalDouble(pnh, "reopen_period", 1.0);
-    requirePositive(pnh, "reopen_period", reopen_period_);
-    required_ = optionalBool(pnh, "required", true);
-    loop_ = optionalString(pnh, "loop", "");
-    diagnostic_period = optionalDouble(pnh, "diagnostic_period", 1.0);
-    requirePositive(pnh, "diagnostic_period", diagnostic_period);
-    const int failures_for_error = optionalInt(pnh, "failures_for_error", 3);
-    requireInRange(pnh, "failures_for_error", failures_for_error, 1, 1000);
-    failures_for_error_ = static_cast<unsigned long>(failures_for_error);
+    settings_ = BoardSettings::read(params_);
   } catch (const ParameterError& e) {
     NODELET_FATAL("%s", e.what());
     throw;
@@ -53,12 +63,12 @@ void BoardNodeletBase::onInit() {
   started_ = ros::Time::now();
   // Checked on the callback queue, not the polling thread, so a board stuck in I/O is still reported.
   reporter_ = std::make_unique<robot_core::DiagnosticReporter>(
-      getNodeHandle(), getName(), "board", getName(), diagnostic_period,
+      getNodeHandle(), getName(), "board", getName(), settings_.diagnostic_period,
       [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { diagnose(stat); });
 
   tryOpen();  // a bad parameter of the board itself stops the node here, with its one line
   if (!joined_) {
-    reopen_timer_ = getNodeHandle().createTimer(ros::Duration(reopen_period_), [this](const ros::TimerEvent&) {
+    reopen_timer_ = getNodeHandle().createTimer(ros::Duration(settings_.reopen_period), [this](const ros::TimerEvent&) {
       tryOpen();
       if (joined_) reopen_timer_.stop();
     });
@@ -71,8 +81,9 @@ void BoardNodeletBase::tryOpen() {
   std::unique_ptr<Board> board = createBoard();
   std::string error;
   try {
-    BoardContext ctx{getNodeHandle(), getPrivateNodeHandle(), getName(), rate_,
+    BoardContext ctx{getNodeHandle(), getPrivateNodeHandle(), getName(), settings_.rate,
                      [member = member_name_] { LoopScheduler::instance().wake(member); }};
+    board->configure(params_);
     board->init(ctx);
   } catch (const ParameterError& e) {
     if (open_attempts_ == 0) {
@@ -87,7 +98,7 @@ void BoardNodeletBase::tryOpen() {
     std::lock_guard lk(stats_mutex_);
     if (error != open_error_)  // said once per distinct reason, not once a second
       NODELET_ERROR("board %s cannot open its channel: %s; STALE, trying again every %.1f s%s", getName().c_str(),
-                    error.c_str(), reopen_period_, required_ ? "" : " (optional board)");
+                    error.c_str(), settings_.reopen_period, settings_.required ? "" : " (optional board)");
     open_error_ = error;
     ++open_attempts_;
     return;
@@ -98,13 +109,13 @@ void BoardNodeletBase::tryOpen() {
     open_error_.clear();
     board_ = std::move(board);
   }
-  LoopScheduler::instance().join(loop_, member_name_, rate_, [this] { serviceOnce(); });
+  LoopScheduler::instance().join(settings_.loop, member_name_, settings_.rate, [this] { serviceOnce(); });
   joined_ = true;
   {
     std::lock_guard lk(stats_mutex_);
     joined_loop_ = LoopScheduler::instance().loopOf(member_name_);  // said on /diagnostics
   }
-  NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), rate_, joined_loop_.c_str());
+  NODELET_INFO("board %s polling at %.1f Hz on loop '%s'", getName().c_str(), settings_.rate, joined_loop_.c_str());
 }
 
 void BoardNodeletBase::serviceOnce() {
@@ -134,14 +145,14 @@ void BoardNodeletBase::serviceOnce() {
       ++consecutive_errors_;
       last_error_ = error;
       const ros::Time since = last_good_.isZero() ? started_ : last_good_;
-      if (!halted_for_staleness_ && (ros::Time::now() - since).toSec() > stale_timeout_) {
+      if (!halted_for_staleness_ && (ros::Time::now() - since).toSec() > settings_.stale_timeout) {
         halted_for_staleness_ = true;
         halt_now = true;
       }
     }
   }
   if (halt_now) {
-    NODELET_ERROR("%s not answering for %.2f s (%s): halting it", getName().c_str(), stale_timeout_, error.c_str());
+    NODELET_ERROR("%s not answering for %.2f s (%s): halting it", getName().c_str(), settings_.stale_timeout, error.c_str());
     try {
       board_->halt();
     } catch (const std::exception& e) {
@@ -165,33 +176,33 @@ Board* BoardNodeletBase::diagnoseFramework(diagnostic_updater::DiagnosticStatusW
   const double age = last_good_.isZero() ? -1.0 : (now - last_good_).toSec();
   const double since_start = (now - started_).toSec();
 
-  stat.add("required", required_ ? "true" : "false");  // readiness waits only for required boards
+  stat.add("required", settings_.required ? "true" : "false");  // readiness waits only for required boards
   if (!board_) {
     stat.summaryf(DiagnosticStatus::STALE, "cannot open the board's channel: %s (trying again every %.1f s)",
-                  open_error_.c_str(), reopen_period_);
+                  open_error_.c_str(), settings_.reopen_period);
     stat.add("open attempts", open_attempts_);
     return nullptr;
   }
-  if (last_good_.isZero() && since_start > stale_timeout_) {
+  if (last_good_.isZero() && since_start > settings_.stale_timeout) {
     stat.summaryf(DiagnosticStatus::STALE, "no answer from the board since start: %s", last_error_.c_str());
-  } else if (age > stale_timeout_) {
+  } else if (age > settings_.stale_timeout) {
     stat.summaryf(DiagnosticStatus::STALE, "board not answering for %.2f s: %s", age, last_error_.c_str());
-  } else if (consecutive_errors_ >= failures_for_error_) {
+  } else if (consecutive_errors_ >= settings_.failures_for_error) {
     stat.summaryf(DiagnosticStatus::ERROR, "%lu exchanges in a row failed: %s", consecutive_errors_, last_error_.c_str());
   } else if (consecutive_errors_ > 0) {
     stat.summaryf(DiagnosticStatus::WARN, "last exchange failed (%lu in a row, ERROR from %lu): %s", consecutive_errors_,
-                  failures_for_error_, last_error_.c_str());
+                  settings_.failures_for_error, last_error_.c_str());
   } else if (last_good_.isZero()) {
     stat.summary(DiagnosticStatus::WARN, "starting: no answer from the board yet");
-  } else if (meter_.count() > 2 && achieved < 0.8 * rate_) {
-    stat.summaryf(DiagnosticStatus::WARN, "polling at %.1f Hz, configured %.1f Hz", achieved, rate_);
+  } else if (meter_.count() > 2 && achieved < 0.8 * settings_.rate) {
+    stat.summaryf(DiagnosticStatus::WARN, "polling at %.1f Hz, configured %.1f Hz", achieved, settings_.rate);
   } else {
     stat.summary(DiagnosticStatus::OK, "ok");
   }
   stat.add("loop", joined_loop_);
-  stat.addf("configured rate [Hz]", "%.2f", rate_);
+  stat.addf("configured rate [Hz]", "%.2f", settings_.rate);
   stat.addf("achieved rate [Hz]", "%.2f", achieved);
-  stat.addf("max period error [ms]", "%.3f", 1e3 * meter_.maxPeriodError(1.0 / rate_));
+  stat.addf("max period error [ms]", "%.3f", 1e3 * meter_.maxPeriodError(1.0 / settings_.rate));
   stat.addf("mean service time [ms]", "%.3f", 1e3 * meter_.meanBusy());
   stat.addf("max service time [ms]", "%.3f", 1e3 * meter_.maxBusy());
   stat.addf("last good exchange age [s]", "%.3f", age);

@@ -30,6 +30,7 @@ Probe probe;
 
 class ProbeBoard : public hcl_drivers::Board {
  public:
+  void configure(const robot_core::Params&) override {}
   void init(hcl_drivers::BoardContext&) override {}
   bool service() override {
     ++probe.services;

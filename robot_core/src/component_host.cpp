@@ -1,6 +1,6 @@
 #include "robot_core/component_host.h"
 
-#include "robot_core/parameters.h"
+#include "robot_core/params.h"
 #include "robot_core/realtime.h"
 
 #include <nodelet/nodelet.h>
@@ -32,9 +32,10 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
     return false;
   }
   // Its real-time threads' priority (robot_core/realtime.h), set before any component starts one.
+  const Params host(all, pnh.getNamespace());
   try {
-    const int priority = optionalInt(pnh, "realtime_priority", 0);
-    requireInRange(pnh, "realtime_priority", priority, 0, 99);
+    const int priority = host.optionalInt("realtime_priority", 0);
+    host.requireInRange("realtime_priority", priority, 0, 99);
     setRealtimePriority(priority);
   } catch (const ParameterError& e) {
     ROS_FATAL("%s", e.what());

@@ -1,4 +1,4 @@
-// The rules both readers apply (parameters.h on a node handle, params.h on a tree), so a value
+// The rules both readers apply , so a value
 // is accepted or refused, with the same line, whichever way it is read.
 #pragma once
 
@@ -9,6 +9,9 @@
 
 namespace robot_core {
 namespace rules {
+
+// The value as the user wrote it (YAML-ish), for an error line: a refused value is always quoted.
+std::string quote(XmlRpc::XmlRpcValue& v);
 
 // A present value as the type asked for, or ParameterError("parameter <name> has the wrong
 // type: expected ..."). Integers are accepted where a number is asked for (YAML `rate: 50`).

@@ -1,5 +1,6 @@
 #include "robot_core/params.h"
 
+#include <ros/console.h>
 #include <ros/node_handle.h>
 #include <yaml-cpp/yaml.h>
 
@@ -96,7 +97,17 @@ Params Params::fromYamlFile(const std::string& file, const std::string& path) {
   return all[path];
 }
 
+Params Params::child(XmlRpc::XmlRpcValue tree, std::string ns) const {
+  Params p(std::move(tree), std::move(ns));
+  p.asked_ = asked_;
+  return p;
+}
+
 XmlRpc::XmlRpcValue* Params::find(const std::string& name) const {
+  {
+    std::lock_guard<std::mutex> lock(asked_->mutex);
+    asked_->names.insert(qualified(name));
+  }
   XmlRpc::XmlRpcValue* v = &tree_;
   for (const auto& part : split(name)) {
     if (v->getType() != XmlRpc::XmlRpcValue::TypeStruct || !v->hasMember(part)) return nullptr;
@@ -107,13 +118,13 @@ XmlRpc::XmlRpcValue* Params::find(const std::string& name) const {
 
 Params Params::operator[](const std::string& name) const {
   const XmlRpc::XmlRpcValue* v = find(name);
-  return Params(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
+  return child(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
 }
 
 Params Params::block(const std::string& name) const {
   const XmlRpc::XmlRpcValue* v = find(name);
   if (v && v->getType() != XmlRpc::XmlRpcValue::TypeStruct) check(name, "must be a dictionary");
-  return Params(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
+  return child(v ? *v : XmlRpc::XmlRpcValue(), qualified(name));
 }
 
 std::vector<std::string> Params::blockNames(const std::string& name) const {
@@ -128,10 +139,21 @@ std::vector<std::string> Params::blockNames(const std::string& name) const {
   return out;
 }
 
+std::vector<std::string> Params::requireBlockNames(const std::string& name) const {
+  if (!has(name)) rules::missing(qualified(name), "a dictionary of named blocks");
+  std::vector<std::string> out = blockNames(name);
+  if (out.empty()) check(name, "must name at least one block");
+  return out;
+}
+
 std::vector<std::string> Params::keys() const {
   std::vector<std::string> out;
   if (tree_.getType() != XmlRpc::XmlRpcValue::TypeStruct) return out;
-  for (auto& e : tree_) out.push_back(e.first);
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  for (auto& e : tree_) {
+    out.push_back(e.first);
+    asked_->names.insert(qualified(e.first));
+  }
   return out;
 }
 
@@ -144,7 +166,7 @@ std::vector<Params> Params::items(const std::string& name) const {
     const std::string item = qualified(name) + "[" + std::to_string(i) + "]";
     if ((*v)[i].getType() != XmlRpc::XmlRpcValue::TypeStruct)
       throw ParameterError("parameter " + item + ": must be a dictionary");
-    out.emplace_back((*v)[i], item);
+    out.push_back(child((*v)[i], item));
   }
   return out;
 }
@@ -223,12 +245,29 @@ std::vector<std::vector<double>> Params::optionalDoubleRows(const std::string& n
   return out;
 }
 
-std::vector<std::string> Params::optionalStringList(const std::string& name) const {
+std::vector<std::string> Params::optionalStringList(const std::string& name,
+                                                  const std::vector<std::string>& fallback) const {
   std::vector<std::string> out;
   XmlRpc::XmlRpcValue* v = find(name);
-  if (!v) return out;
+  if (!v) return fallback;
   if (v->getType() != XmlRpc::XmlRpcValue::TypeArray) check(name, "must be a list of strings");
   for (int i = 0; i < v->size(); ++i) out.push_back(rules::toString((*v)[i], qualified(name) + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+std::vector<std::pair<std::string, int>> Params::optionalIntMap(const std::string& name) const {
+  std::vector<std::pair<std::string, int>> out;
+  XmlRpc::XmlRpcValue* v = find(name);
+  if (!v) return out;
+  const std::string form = "must be a dictionary of name: index (integers >= 0)";
+  if (v->getType() != XmlRpc::XmlRpcValue::TypeStruct) check(name, form);
+  for (auto& e : *v) {
+    const int index = rules::toInt(e.second, qualified(name + "/" + e.first));
+    if (index < 0) check(name + "/" + e.first, form);
+    out.emplace_back(e.first, index);
+  }
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  for (const auto& e : out) asked_->names.insert(qualified(name + "/" + e.first));
   return out;
 }
 
@@ -245,6 +284,48 @@ void Params::requireOneOf(const std::string& name, const std::string& value,
 
 void Params::check(const std::string& name, const std::string& reason) const {
   if (!reason.empty()) throw ParameterError("parameter " + (name.empty() ? ns_ : qualified(name)) + ": " + reason);
+}
+
+std::string Params::renamed(const std::string& now, const std::string& old) const {
+  if (has(now) || !has(old)) return now;
+  ROS_WARN("%s is now called %s: rename it in the config", qualified(old).c_str(), qualified(now).c_str());
+  return old;
+}
+
+void Params::collectUnasked(XmlRpc::XmlRpcValue& v, const std::string& path, std::vector<std::string>& out) const {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeStruct) {
+    for (auto& e : v) collectUnasked(e.second, path + "/" + e.first, out);
+    return;
+  }
+  const bool asked = asked_->names.count(path) > 0;
+  if (asked && v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+    // a list of dictionaries is read item by item (items()): each item's keys count
+    bool dictionaries = v.size() > 0;
+    for (int i = 0; i < v.size(); ++i) dictionaries = dictionaries && v[i].getType() == XmlRpc::XmlRpcValue::TypeStruct;
+    if (dictionaries)
+      for (int i = 0; i < v.size(); ++i) collectUnasked(v[i], path + "[" + std::to_string(i) + "]", out);
+    return;
+  }
+  if (!asked) out.push_back(path + " = " + rules::quote(v));
+}
+
+std::vector<std::string> Params::unasked() const {
+  std::vector<std::string> out;
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  if (tree_.getType() == XmlRpc::XmlRpcValue::TypeStruct) collectUnasked(tree_, ns_, out);
+  return out;
+}
+
+std::vector<std::string> Params::askedKeys() const {
+  std::set<std::string> keys;
+  const std::string prefix = ns_ + "/";
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  for (const auto& name : asked_->names) {
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = name.substr(prefix.size());
+    keys.insert(rest.substr(0, rest.find_first_of("/[")));
+  }
+  return std::vector<std::string>(keys.begin(), keys.end());
 }
 
 }  // namespace robot_core

@@ -131,3 +131,45 @@ TEST(Params, BlocksListsAndRows) {
   refused([&] { w.optionalStringList("start"); }, "/w/start[0]");
   std::remove(f.c_str());
 }
+
+TEST(Params, RemembersWhatAReaderAskedFor) {
+  const std::string f = writeYaml(
+      "b:\n"
+      "  rate: 10\n"
+      "  adress: 0x70\n"
+      "  pairs: {left: {ticks: 360, tiks: 1}}\n"
+      "  zones: [{name: a}, {name: b, colour: red}]\n"
+      "  axes: {left_x: 0, left_y: 1}\n"
+      "  start: [0.25, 1.8, 0]\n");
+  const Params b = Params::fromYamlFile(f, "b");
+  b.requireDouble("rate");
+  b.optionalInt("address", 0x70);  // absent: known, not reported
+  for (const auto& name : b.blockNames("pairs")) b.block("pairs/" + name).requireInt("ticks");
+  for (const auto& zone : b.items("zones")) zone.requireString("name");
+  b.optionalIntMap("axes");
+  b.optionalDoubleList("start", 3, 3);
+  // the values no reader looked at, each with its value: a misspelt key, a key inside a named
+  // block and one inside a list of dictionaries
+  EXPECT_EQ(b.unasked(), (std::vector<std::string>{"/b/adress = 112", "/b/pairs/left/tiks = 1",
+                                                    "/b/zones[1]/colour = 'red'"}));
+  // what the reader knows, present or not
+  EXPECT_EQ(b.askedKeys(), (std::vector<std::string>{"address", "axes", "pairs", "rate", "start", "zones"}));
+  std::remove(f.c_str());
+}
+
+TEST(Params, RequiredBlocksIntMapsAndRenamedKeys) {
+  const std::string f = writeYaml(
+      "d:\n"
+      "  empty: {}\n"
+      "  axes: {left_x: 0, bad: -1}\n"
+      "  max_wheel_speed: 4\n");
+  const Params d = Params::fromYamlFile(f, "d");
+  EXPECT_THROW(d.requireBlockNames("absent"), ParameterError);
+  EXPECT_THROW(d.requireBlockNames("empty"), ParameterError);
+  EXPECT_THROW(d.optionalIntMap("axes"), ParameterError);
+  EXPECT_TRUE(d.optionalIntMap("absent").empty());
+  EXPECT_EQ(d.renamed("plausible_wheel_speed", "max_wheel_speed"), "max_wheel_speed");
+  EXPECT_EQ(d.renamed("axes", "old_axes"), "axes");
+  EXPECT_EQ(d.optionalStringList("absent", {"x"}), (std::vector<std::string>{"x"}));
+  std::remove(f.c_str());
+}

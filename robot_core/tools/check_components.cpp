@@ -1,9 +1,15 @@
-// A config's component blocks checked with no master and no process started: every block under
-// NAMESPACE whose value is a dictionary with a `type` must name a plugin PACKAGE declares, as
-// ComponentHost::loadFromParameters will ask when hcl_node or hal_node starts.
+// A config's component blocks checked with no master, no bus and no process started: every block
+// under NAMESPACE whose value is a dictionary with a `type` must name a plugin PACKAGE declares (as
+// ComponentHost::loadFromParameters will ask when hcl_node or hal_node starts), and that plugin's
+// own parameter reader (robot_core/configurable_component.h) runs over the block: a missing,
+// mistyped or out-of-range value, and every key the reader never asked for, is an error.
 //   check_components CONFIG.yaml NAMESPACE PACKAGE KIND     (e.g. merged.yaml hcl hcl_drivers board)
 // One line per error on stderr ("parameter /hcl/motor_board/type = 'Motorboard': unknown board
-// type; allowed values: ..."), exit 1; nothing and exit 0 when every type is known.
+// type; allowed values: ...", "parameter /hcl/io/adress = 32: not a parameter of board type
+// MCP23016 (it reads: address, bus, ...)"), exit 1; nothing and exit 0 when the blocks are good.
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_loader.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
@@ -11,7 +17,48 @@
 #include <vector>
 
 #include "robot_core/component_host.h"
+#include "robot_core/configurable_component.h"
 #include "robot_core/params.h"
+
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  std::ostringstream s;
+  for (std::size_t i = 0; i < names.size(); ++i) s << (i ? ", " : "") << names[i];
+  return s.str();
+}
+
+// The errors of one block: its plugin's reader over it, then the keys nobody asked for.
+int checkBlock(pluginlib::ClassLoader<nodelet::Nodelet>& plugins, const std::string& package,
+               const std::string& type, const std::string& kind, const robot_core::Params& block) {
+  boost::shared_ptr<nodelet::Nodelet> plugin;
+  try {
+    plugin = plugins.createInstance(package + "/" + type);
+  } catch (const pluginlib::PluginlibException& e) {
+    std::fprintf(stderr, "%s %s: its plugin cannot be loaded: %s\n", kind.c_str(), block.ns().c_str(), e.what());
+    return 1;
+  }
+  const auto* reader = dynamic_cast<const robot_core::ConfigurableComponent*>(plugin.get());
+  if (!reader) return 0;  // a plugin without its own reader: its node checks it at start
+  try {
+    reader->readConfig(block);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  int errors = 0;
+  const std::string known = joined(block.askedKeys());
+  for (const std::string& line : block.unasked()) {
+    const std::string name = line.substr(0, line.find(" = "));
+    const std::string value = line.substr(name.size());
+    std::fprintf(stderr, "parameter %s%s: not a parameter of %s type %s (it reads: %s)\n", name.c_str(), value.c_str(),
+                 kind.c_str(), type.c_str(), known.c_str());
+    ++errors;
+  }
+  return errors;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 5) {
@@ -29,8 +76,7 @@ int main(int argc, char** argv) {
   if (!all.has(ns)) return 0;  // nothing of this kind configured: the host itself says so at start
   const robot_core::Params host = all[ns];
   const std::vector<std::string> types = robot_core::ComponentHost::declaredTypes(package);
-  std::ostringstream allowed;
-  for (std::size_t i = 0; i < types.size(); ++i) allowed << (i ? ", " : "") << types[i];
+  pluginlib::ClassLoader<nodelet::Nodelet> plugins("nodelet", "nodelet::Nodelet");
   int errors = 0;
   for (const std::string& key : host.keys()) {
     const robot_core::Params block = host[key];
@@ -46,9 +92,11 @@ int main(int argc, char** argv) {
     }
     if (std::find(types.begin(), types.end(), type) == types.end()) {
       std::fprintf(stderr, "parameter %s = '%s': unknown %s type; allowed values: %s\n",
-                   block.qualified("type").c_str(), type.c_str(), kind.c_str(), allowed.str().c_str());
+                   block.qualified("type").c_str(), type.c_str(), kind.c_str(), joined(types).c_str());
       ++errors;
+      continue;
     }
+    errors += checkBlock(plugins, package, type, kind, block);
   }
   return errors ? 1 : 0;
 }

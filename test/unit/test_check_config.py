@@ -73,6 +73,23 @@ class CheckConfigTest(unittest.TestCase):
                               '/sim/world/beacons/noise_std = -1')
         self.assertEqual(len(errors), 3)
 
+    def test_unknown_key_in_a_board_block_names_what_the_board_reads(self):
+        path = self.overlay('hcl:\n  io: {adress: 0x21}\n')
+        errors = self.refused(['logion', '--overlay', path],
+                              '/hcl/io/adress = 33: not a parameter of board type MCP23016 (it reads: ')
+        self.assertEqual(len(errors), 1)
+        self.assertIn('address', errors[0])
+
+    def test_a_boards_and_a_devices_own_readers_run(self):
+        # values only the board's or the device's reader knows: a conversion time the SRF02 cannot
+        # wait, an unknown key inside a device's named block
+        path = self.overlay('hcl:\n  ranger_front: {conversion_time: 0.01}\n'
+                            'hal:\n  odometry: {pairs: {driven: {left_tiks: 3}}}\n')
+        errors = self.refused(['logion', '--overlay', path],
+                              '/hcl/ranger_front/conversion_time = 0.01: must be in [0.065, 1]',
+                              '/hal/odometry/pairs/driven/left_tiks = 3: not a parameter of device type Odometry')
+        self.assertEqual(len(errors), 2)
+
     def test_several_overlays_each_over_the_one_before(self):
         bad = self.overlay('hal:\n  driver:\n    limits: {max_linear_speed: "fast"}\n')
         fixed = self.overlay('hal:\n  driver:\n    limits: {max_linear_speed: 0.4}\n')

@@ -1,8 +1,10 @@
 // The Device: what every HAL device implements (init, refresh, halt).
 // A device turns raw board values into physical meaning and offers a hardware-independent
 // interface to the brain. The framework (DeviceNodelet) calls:
-//   init(ctx)   once: read ~parameters (throw robot_core::ParameterError), declare inputs with
-//               addInput(), advertise outputs.
+//   configure(params)  first: read every ~parameter into members (robot_core/params.h) and
+//               throw robot_core::ParameterError for a bad one. Nothing else: check_config runs
+//               it over a config file with no master, and calls every key it never asked for unknown.
+//   init(ctx)   once, after configure(): declare inputs with addInput(), advertise outputs.
 //   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
 //               inputs, compute, publish. Call setUnavailable("why") when it cannot. An input
 //               declared Wake::kOnArrival also runs it as soon as a message arrives, within
@@ -16,7 +18,7 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
-#include <robot_core/parameters.h>
+#include <robot_core/params.h>
 #include <robot_core/priority_inheritance_mutex.h>
 #include <ros/ros.h>
 
@@ -44,6 +46,7 @@ class Device {
  public:
   virtual ~Device() = default;
 
+  virtual void configure(const robot_core::Params& params) = 0;
   virtual void init(DeviceContext& ctx) = 0;
   virtual void refresh() = 0;
   virtual void halt() {}

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <robot_core/configurable_component.h>
 #include <robot_core/diagnostic_reporter.h>
 #include <robot_core/loop_pacer.h>
 #include <robot_core/priority_inheritance_mutex.h>
@@ -30,9 +31,22 @@
 
 namespace hal_nodes {
 
-class DeviceNodeletBase : public nodelet::Nodelet {
+// The parameters every device has, read by the framework (see above).
+struct DeviceSettings {
+  double rate = 0.0;
+  double max_rate = 0.0;
+  double diagnostic_period = 1.0;
+  double startup_grace = 5.0;
+  bool required = true;
+
+  static DeviceSettings read(const robot_core::Params& params);
+};
+
+class DeviceNodeletBase : public nodelet::Nodelet, public robot_core::ConfigurableComponent {
  public:
   ~DeviceNodeletBase() override;
+  // The common parameters and the device's own, over `params` (check_config, with no master).
+  void readConfig(const robot_core::Params& params) const override;
 
  protected:
   virtual std::unique_ptr<Device> createDevice() const = 0;

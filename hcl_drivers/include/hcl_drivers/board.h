@@ -2,14 +2,18 @@
 //
 // A board mirrors its firmware's variables and never interprets them (that is HAL's job).
 // The framework (BoardNodelet) calls:
-//   init(ctx)   once, at load: read ~parameters, open the bus, advertise ~state, subscribe commands.
-//               Throw ParameterError for bad configuration: the node stops with that one line.
+//   configure(params)  first: read every ~parameter into members (robot_core/params.h) and
+//               throw ParameterError for a bad one: the node stops with that one line. Nothing
+//               else: check_config runs it over a config file, with no master and no bus, and
+//               calls every key it never asked for unknown.
+//   init(ctx)   once, at load, after configure(): open the bus, advertise ~state, subscribe
+//               commands, with the values configure() read.
 //   service()   at the configured ~rate on a polling thread (never the nodelet callback queue):
 //               send pending commands, read the variables, publish the latched state.
 //               Return true when the board answered; on failure call fail("why") and return false.
 //   halt()      on shutdown and whenever commands went stale: put the board in a safe state.
-//   check(ctx, report)  the hardware doctor only (`rosrun hcl_drivers doctor`), instead of init():
-//               read the same ~parameters, open the channel and probe the board (identity,
+//   check(ctx, report)  the hardware doctor only (`rosrun hcl_drivers doctor`), after configure()
+//               instead of init(): open the channel and probe the board (identity,
 //               firmware version, answers) without configuring, starting or driving anything;
 //               one row per finding into `report` (board_check.h). Never throws for a board that
 //               does not answer: that is a FAIL row with a hint.
@@ -23,7 +27,7 @@
 #include <functional>
 #include <string>
 
-#include <robot_core/parameters.h>
+#include <robot_core/params.h>
 
 #include "hcl_drivers/board_check.h"
 
@@ -42,6 +46,7 @@ class Board {
  public:
   virtual ~Board() = default;
 
+  virtual void configure(const robot_core::Params& params) = 0;
   virtual void init(BoardContext& ctx) = 0;
   virtual bool service() = 0;
   virtual void halt() = 0;

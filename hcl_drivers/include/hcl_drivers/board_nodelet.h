@@ -28,17 +28,34 @@
 #include <string>
 
 #include "hcl_drivers/board.h"
+#include <robot_core/configurable_component.h>
 #include <robot_core/diagnostic_reporter.h>
 #include <robot_core/priority_inheritance_mutex.h>
 #include <robot_core/rate_meter.h>
 
 namespace hcl_drivers {
 
-class BoardNodeletBase : public nodelet::Nodelet {
+// The common parameters above, read by the framework for every board.
+struct BoardSettings {
+  double rate = 0.0;
+  double stale_timeout = 0.0;
+  double reopen_period = 1.0;
+  bool required = true;
+  std::string loop;
+  double diagnostic_period = 1.0;
+  unsigned long failures_for_error = 3;
+
+  static BoardSettings read(const robot_core::Params& params);
+};
+
+class BoardNodeletBase : public nodelet::Nodelet, public robot_core::ConfigurableComponent {
  public:
   ~BoardNodeletBase() override;
-  // A fresh board of this plugin's type, not initialised: the hardware doctor calls its check().
+  // A fresh board of this plugin's type, not configured: the hardware doctor calls its
+  // configure() and check().
   std::unique_ptr<Board> newBoard() const { return createBoard(); }
+  // The common parameters and the board's own, over `params` (check_config, with no master).
+  void readConfig(const robot_core::Params& params) const override;
 
  protected:
   virtual std::unique_ptr<Board> createBoard() const = 0;
@@ -52,19 +69,14 @@ class BoardNodeletBase : public nodelet::Nodelet {
   // The framework's part of the status (stats_mutex_ held); the board to add its own, if open.
   Board* diagnoseFramework(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
+  robot_core::Params params_;     // the board's private namespace, fetched once at load
   std::unique_ptr<Board> board_;  // null until its channel opened
   std::unique_ptr<robot_core::DiagnosticReporter> reporter_;  // checks on ROS time: the simulated clock
   ros::Timer reopen_timer_;      // ROS time, like the polling: the retries follow the simulated clock
   std::mutex open_mutex_;        // one tryOpen() at a time (the callback queue is multi-threaded)
   std::string member_name_;
-  std::string loop_;
   bool joined_ = false;
-
-  double rate_ = 0.0;
-  double stale_timeout_ = 0.0;
-  double reopen_period_ = 1.0;
-  bool required_ = true;
-  unsigned long failures_for_error_ = 3;
+  BoardSettings settings_;
   std::string open_error_;  // why the channel could not be opened (empty once open)
   std::string joined_loop_;  // the loop the board polls on, once open
   unsigned long open_attempts_ = 0;

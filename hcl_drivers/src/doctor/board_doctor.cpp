@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
       std::unique_ptr<hcl_drivers::Board> board = host->newBoard();
       hcl_drivers::BoardContext ctx{ros::NodeHandle(), ros::NodeHandle(hcl_ns + "/" + name), hcl_ns + "/" + name,
                                     b.hasMember("rate") ? number(b["rate"], 10.0) : 10.0, {}};
+      board->configure(robot_core::Params::of(ctx.pnh));
       board->check(ctx, report);
     } catch (const pluginlib::PluginlibException& e) {
       report.fail("type", type, "no such board type", "`rosrun nodelet declared_nodelets` lists the hcl_drivers/ types");

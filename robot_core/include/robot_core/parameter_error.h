@@ -3,7 +3,6 @@
 #include <stdexcept>
 
 namespace robot_core {
-inline namespace parameter_reader {  // see parameters.h
 
 // Thrown for bad configuration. what() is the one line the user sees.
 class ParameterError : public std::runtime_error {
@@ -11,5 +10,4 @@ class ParameterError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-}  // namespace parameter_reader
 }  // namespace robot_core

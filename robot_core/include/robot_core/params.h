@@ -1,14 +1,21 @@
-// A parameter namespace as a value: its tree (XmlRpc, what ROS parameters are) and its name for
-// messages. It comes from the parameter server (Params::of) in a node, or straight from the
-// robot's YAML (Params::fromYamlFile) in a benchmark or a unit test, with no master: both read a
-// robot's values through the same config reader, so neither copies them by hand.
-// The same strict rules as parameters.h (which uses the same conversions): a missing required or
-// mistyped value throws ParameterError naming the parameter; integers are accepted as numbers.
+// The one way the product reads parameters: a namespace as a value, its tree (XmlRpc, what ROS
+// parameters are) and its name for messages. It comes from the parameter server (Params::of) in a
+// node, or straight from the robot's YAML (Params::fromYamlFile) with no master: check_config, a
+// benchmark or a unit test run a board's, a device's or the simulator's own reader over the
+// config, so nothing copies a robot's values by hand.
+// Strict: a missing required or mistyped value throws ParameterError, one line naming the
+// parameter and quoting the value; integers are accepted as numbers; never a silent default.
+// Every name a reader asks for is remembered (shared by the sub-namespaces): after a reader ran,
+// unasked() lists the values in the tree it never looked at, the misspelt or unknown keys.
 #pragma once
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <memory>
+#include <mutex>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "robot_core/parameter_error.h"
@@ -37,7 +44,10 @@ class Params {
   // The names of the dictionaries under a dictionary `name` (motors: {left: {..}, right: {..}}),
   // in key order; none when absent.
   std::vector<std::string> blockNames(const std::string& name) const;
-  // Every key of this dictionary, whatever its value (none when this is not a dictionary).
+  // The same, required and not empty.
+  std::vector<std::string> requireBlockNames(const std::string& name) const;
+  // Every key of this dictionary, whatever its value (none when this is not a dictionary). A
+  // reader that takes every key as it comes (a name -> value map) counts as asking for each.
   std::vector<std::string> keys() const;
   // The dictionaries of a list `name` (zones: [{..}, {..}]), named "<name>[i]"; none when absent.
   std::vector<Params> items(const std::string& name) const;
@@ -57,7 +67,10 @@ class Params {
                                          std::size_t max_size = static_cast<std::size_t>(-1)) const;
   // A list of lists of `width` numbers each ([[x, y], ..] for width 2), empty when absent.
   std::vector<std::vector<double>> optionalDoubleRows(const std::string& name, std::size_t width) const;
-  std::vector<std::string> optionalStringList(const std::string& name) const;
+  std::vector<std::string> optionalStringList(const std::string& name,
+                                              const std::vector<std::string>& fallback = {}) const;
+  // A dictionary of name: integer >= 0 (joystick axes: {left_x: 0, ..}), in key order; none when absent.
+  std::vector<std::pair<std::string, int>> optionalIntMap(const std::string& name) const;
 
   void requirePositive(const std::string& name, double value) const;
   void requireInRange(const std::string& name, double value, double lo, double hi) const;
@@ -66,11 +79,27 @@ class Params {
   // struct's invalidReason()).
   void check(const std::string& name, const std::string& reason) const;
 
+  // A parameter that was renamed: the name to read. The old name still works while the new one is
+  // absent, with a warning naming both, so a team's config keeps starting after an update.
+  std::string renamed(const std::string& now, const std::string& old) const;
+
+  // The values under this namespace no reader asked for, as "<qualified name> = <value>" lines
+  // (a value inside a list of dictionaries is named "<list>[i]/<key>"), in key order.
+  std::vector<std::string> unasked() const;
+  // The names asked for directly under this namespace, present or not, sorted: what a reader knows.
+  std::vector<std::string> askedKeys() const;
  private:
-  XmlRpc::XmlRpcValue* find(const std::string& name) const;  // null when absent
+  XmlRpc::XmlRpcValue* find(const std::string& name) const;  // null when absent; remembers the name
+  Params child(XmlRpc::XmlRpcValue tree, std::string ns) const;  // shares the names asked for
+  void collectUnasked(XmlRpc::XmlRpcValue& v, const std::string& path, std::vector<std::string>& out) const;
 
   mutable XmlRpc::XmlRpcValue tree_;  // XmlRpcValue's lookups and conversions are not const
   std::string ns_;
+  struct Asked {  // the qualified names asked for (a reader may run on any thread)
+    std::mutex mutex;
+    std::set<std::string> names;
+  };
+  std::shared_ptr<Asked> asked_ = std::make_shared<Asked>();
 };
 
 }  // namespace robot_core

@@ -46,7 +46,8 @@ bool FirmwareHost::startFromParameters() {
                 allowed.str().c_str());
       return false;
     }
-    FirmwareContext ctx{nh_, ros::NodeHandle(pnh_, entry.first), entry.first, world_};
+    const ros::NodeHandle own(pnh_, entry.first);
+    FirmwareContext ctx{nh_, own, robot_core::Params::of(own), entry.first, world_};
     try {
       fw->start(ctx);
     } catch (const std::exception& e) {

@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include <robot_core/params.h>
+
 #include "hal_nodes/device.h"
 
 namespace hal_nodes {
@@ -20,21 +22,21 @@ struct ContactSpec {
   int bit = -1;
   bool invert = false;
 
-  // Reads ~<block>/{topic, input|bit, invert}; throws ParameterError.
-  static ContactSpec read(const ros::NodeHandle& pnh, const std::string& block) {
-    ros::NodeHandle p(pnh, block);
+  // Reads <block>/{topic, input|bit, invert} of a device's parameters (from its configure());
+  // throws ParameterError.
+  static ContactSpec read(const robot_core::Params& params, const std::string& block) {
+    const robot_core::Params p = params.block(block);
     ContactSpec c;
-    c.topic = robot_core::requireString(p, "topic");
-    c.input = robot_core::optionalString(p, "input", "");
-    c.bit = robot_core::optionalInt(p, "bit", -1);
+    c.topic = p.requireString("topic");
+    c.input = p.optionalString("input", "");
+    c.bit = p.optionalInt("bit", -1);
     if (c.input.empty() == (c.bit < 0))
-      throw robot_core::ParameterError("parameter " + robot_core::qualified(p, "input") + " / " +
-                                       robot_core::qualified(p, "bit") +
+      throw robot_core::ParameterError("parameter " + p.qualified("input") + " / " + p.qualified("bit") +
                                        ": give exactly one (the input's name, or its bit 0..31)");
     if (c.bit > 31)
-      throw robot_core::ParameterError("parameter " + robot_core::qualified(p, "bit") + " = " + std::to_string(c.bit) +
+      throw robot_core::ParameterError("parameter " + p.qualified("bit") + " = " + std::to_string(c.bit) +
                                        ": must be 0..31");
-    c.invert = robot_core::optionalBool(p, "invert", false);
+    c.invert = p.optionalBool("invert", false);
     return c;
   }
 

@@ -25,43 +25,46 @@
 #include <cmath>
 #include <deque>
 #include <mutex>
+#include <optional>
 
 #include "hal_nodes/device_nodelet.h"
 #include "hal_nodes/devices/beacons/beacon_equation.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class BeaconsDevice : public Device {
  public:
+  void configure(const robot_core::Params& params) override {
+    BeaconEquation eq;
+    eq.temperature = params.optionalDouble("temperature", 20.0);
+    params.requireInRange("temperature", eq.temperature, -40.0, 80.0);
+    eq.scale = params.optionalDouble("scale", 1.0);
+    params.requireInRange("scale", eq.scale, 0.5, 2.0);
+    eq.offset = params.optionalDouble("offset", 0.0);
+    params.requireInRange("offset", eq.offset, -1.0, 1.0);
+    eq.beacon_offsets = params.optionalDoubleList("beacon_offsets");
+    equation_ = eq;
+    noise_ = params.optionalDouble("range_noise", 0.02);
+    params.requirePositive("range_noise", noise_);
+    noise_rel_ = params.optionalDouble("range_noise_relative", 0.01);
+    params.requireInRange("range_noise_relative", noise_rel_, 0.0, 1.0);
+    min_range_ = params.optionalDouble("min_range", 0.05);
+    max_range_ = params.optionalDouble("max_range", 4.0);
+    params.requireInRange("min_range", min_range_, 0.0, 10.0);
+    params.requireInRange("max_range", max_range_, min_range_ + 1e-3, 20.0);
+    frame_id_ = params.optionalString("frame_id", "beacon_receiver");
+    max_input_age_ = params.optionalDouble("max_input_age", 1.0);
+    params.requirePositive("max_input_age", max_input_age_);
+    topic_ = params.requireString("delta");
+  }
+
   void init(DeviceContext& ctx) override {
     using namespace hcl_drivers;  // the boards' messages
-    pnh_ = ctx.pnh;
-    BeaconEquation eq;
-    eq.temperature = optionalDouble(ctx.pnh, "temperature", 20.0);
-    requireInRange(ctx.pnh, "temperature", eq.temperature, -40.0, 80.0);
-    eq.scale = optionalDouble(ctx.pnh, "scale", 1.0);
-    requireInRange(ctx.pnh, "scale", eq.scale, 0.5, 2.0);
-    eq.offset = optionalDouble(ctx.pnh, "offset", 0.0);
-    requireInRange(ctx.pnh, "offset", eq.offset, -1.0, 1.0);
-    eq.beacon_offsets = optionalDoubleList(ctx.pnh, "beacon_offsets", {});
-    equation_ = eq;
-    noise_ = optionalDouble(ctx.pnh, "range_noise", 0.02);
-    requirePositive(ctx.pnh, "range_noise", noise_);
-    noise_rel_ = optionalDouble(ctx.pnh, "range_noise_relative", 0.01);
-    requireInRange(ctx.pnh, "range_noise_relative", noise_rel_, 0.0, 1.0);
-    min_range_ = optionalDouble(ctx.pnh, "min_range", 0.05);
-    max_range_ = optionalDouble(ctx.pnh, "max_range", 4.0);
-    requireInRange(ctx.pnh, "min_range", min_range_, 0.0, 10.0);
-    requireInRange(ctx.pnh, "max_range", max_range_, min_range_ + 1e-3, 20.0);
-    frame_id_ = optionalString(ctx.pnh, "frame_id", "beacon_receiver");
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 1.0);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    const std::string topic = requireString(ctx.pnh, "delta");
-    latest_ = addInput<BeaconDelta>(ctx.nh, topic, "delta");  // for its age on /diagnostics
-    events_sub_ = ctx.nh.subscribe<BeaconDelta>(topic, 100, [this](const BeaconDelta::ConstPtr& m) {
+    pnh_.emplace(ctx.pnh);
+    const BeaconEquation eq = equation_;  // as configured, before a service can change it
+    latest_ = addInput<BeaconDelta>(ctx.nh, topic_, "delta");  // for its age on /diagnostics
+    events_sub_ = ctx.nh.subscribe<BeaconDelta>(topic_, 100, [this](const BeaconDelta::ConstPtr& m) {
       std::lock_guard<std::mutex> lk(queue_mutex_);
       queue_.push_back(m);
       if (queue_.size() > 200) {  // refresh stalled: keep the newest, count the rest
@@ -172,13 +175,13 @@ class BeaconsDevice : public Device {
   }
 
   void mirror(const BeaconEquation& eq) {
-    pnh_.setParam("temperature", eq.temperature);
-    pnh_.setParam("scale", eq.scale);
-    pnh_.setParam("offset", eq.offset);
-    pnh_.setParam("beacon_offsets", eq.beacon_offsets);
+    pnh_->setParam("temperature", eq.temperature);
+    pnh_->setParam("scale", eq.scale);
+    pnh_->setParam("offset", eq.offset);
+    pnh_->setParam("beacon_offsets", eq.beacon_offsets);
   }
 
-  ros::NodeHandle pnh_;
+  std::optional<ros::NodeHandle> pnh_;  // from init(): constructing a handle needs ros::init (a checker has none)
   std::mutex eq_mutex_;
   BeaconEquation equation_;
   std::mutex queue_mutex_;
@@ -187,7 +190,7 @@ class BeaconsDevice : public Device {
   ros::Subscriber events_sub_;
   ros::Publisher pub_;
   ros::ServiceServer set_srv_, fit_srv_;
-  std::string frame_id_;
+  std::string frame_id_, topic_;
   double noise_ = 0.02, noise_rel_ = 0.01, min_range_ = 0.05, max_range_ = 4.0, max_input_age_ = 1.0;
   std::atomic<unsigned long> published_{0}, outliers_{0}, overflow_{0};
 };

@@ -18,34 +18,33 @@
 #include <map>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include "hal_nodes/devices/contact_input.h"
+#include <robot_core/params.h>
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class BumpersDevice : public Device {
  public:
-  void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;  // the boards' messages
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    for (const auto& name : requireBlockNames(ctx.pnh, "contacts")) {
-      ros::NodeHandle p(ctx.pnh, "contacts/" + name);
+  void configure(const robot_core::Params& params) override {
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    contacts_.clear();
+    for (const auto& name : params.requireBlockNames("contacts")) {
       Contact c;
       c.name = name;
-      const std::string topic = requireString(p, "topic");
-      if (!boards_.count(topic)) boards_[topic] = addInput<DigitalInputs>(ctx.nh, topic, topic);
-      c.board = topic;
-      c.input = optionalString(p, "input", "");
-      c.bit = optionalInt(p, "bit", -1);
-      if (c.input.empty() == (c.bit < 0))
-        throw ParameterError("parameter " + qualified(p, "input") + " / " + qualified(p, "bit") +
-                             ": give exactly one (the input's name, or its bit 0..31)");
-      if (c.bit > 31) throw ParameterError("parameter " + qualified(p, "bit") + " = " + std::to_string(c.bit) + ": must be 0..31");
-      c.invert = optionalBool(p, "invert", false);
+      const ContactSpec spec = ContactSpec::read(params, "contacts/" + name);
+      c.board = spec.topic;
+      c.input = spec.input;
+      c.bit = spec.bit;
+      c.invert = spec.invert;
       contacts_.push_back(std::move(c));
     }
+  }
+
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;  // the boards' messages
+    for (const auto& c : contacts_)
+      if (!boards_.count(c.board)) boards_[c.board] = addInput<DigitalInputs>(ctx.nh, c.board, c.board);
     pub_ = ctx.pnh.advertise<Contacts>("contacts", 10);
   }
 

@@ -21,21 +21,23 @@
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class CompassDevice : public Device {
  public:
+  void configure(const robot_core::Params& params) override {
+    north_yaw_ = params.requireDouble("north_yaw");
+    params.requireInRange("north_yaw", north_yaw_, -2 * M_PI, 2 * M_PI);
+    clockwise_ = params.optionalBool("mounting_clockwise", true);
+    variance_ = params.optionalDouble("variance", 0.0025);
+    params.requirePositive("variance", variance_);
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    frame_id_ = params.optionalString("frame_id", "map");
+    bearing_topic_ = params.requireString("bearing");
+  }
+
   void init(DeviceContext& ctx) override {
     using namespace hcl_drivers;  // the boards' messages
-    north_yaw_ = requireDouble(ctx.pnh, "north_yaw");
-    requireInRange(ctx.pnh, "north_yaw", north_yaw_, -2 * M_PI, 2 * M_PI);
-    clockwise_ = optionalBool(ctx.pnh, "mounting_clockwise", true);
-    variance_ = optionalDouble(ctx.pnh, "variance", 0.0025);
-    requirePositive(ctx.pnh, "variance", variance_);
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    frame_id_ = optionalString(ctx.pnh, "frame_id", "map");
-    bearing_ = addInput<Bearing>(ctx.nh, requireString(ctx.pnh, "bearing"), "bearing");
+    bearing_ = addInput<Bearing>(ctx.nh, bearing_topic_, "bearing");
     pub_ = ctx.pnh.advertise<Heading>("heading", 1);
   }
 
@@ -68,7 +70,7 @@ class CompassDevice : public Device {
   std::shared_ptr<LatestValue<hcl_drivers::Bearing>> bearing_;
   ros::Publisher pub_;
   ros::Time last_stamp_;
-  std::string frame_id_;
+  std::string frame_id_, bearing_topic_;
   double north_yaw_ = 0.0, variance_ = 0.0025, max_input_age_ = 0.5;
   bool clockwise_ = true;
   unsigned long bad_ = 0;

@@ -34,51 +34,54 @@
 #include <mutex>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 #include "hal_nodes/devices/drive/wheel_speeds.h"
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class DifferentialDrive : public Effector {
  public:
-  void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;  // the boards' messages
-    track_width_ = requireDouble(ctx.pnh, "track_width");
-    requirePositive(ctx.pnh, "track_width", track_width_);
-    const std::string clamp = renamed(ctx.pnh, "wheel_speed_clamp", "max_wheel_speed");
-    wheel_speed_clamp_ = requireDouble(ctx.pnh, clamp);
-    requirePositive(ctx.pnh, clamp, wheel_speed_clamp_);
-    max_acceleration_ = optionalDouble(ctx.pnh, "max_acceleration", 0.0);
-    requireInRange(ctx.pnh, "max_acceleration", max_acceleration_, 0.0, 1e3);
-    cmd_timeout_ = optionalDouble(ctx.pnh, "cmd_timeout", 0.3);
-    requirePositive(ctx.pnh, "cmd_timeout", cmd_timeout_);
+  void configure(const robot_core::Params& params) override {
+    track_width_ = params.requireDouble("track_width");
+    params.requirePositive("track_width", track_width_);
+    const std::string clamp = params.renamed("wheel_speed_clamp", "max_wheel_speed");
+    wheel_speed_clamp_ = params.requireDouble(clamp);
+    params.requirePositive(clamp, wheel_speed_clamp_);
+    max_acceleration_ = params.optionalDouble("max_acceleration", 0.0);
+    params.requireInRange("max_acceleration", max_acceleration_, 0.0, 1e3);
+    cmd_timeout_ = params.optionalDouble("cmd_timeout", 0.3);
+    params.requirePositive("cmd_timeout", cmd_timeout_);
     bool has_left = false, has_right = false;
-    for (const auto& name : requireBlockNames(ctx.pnh, "wheels")) {
-      ros::NodeHandle p(ctx.pnh, "wheels/" + name);
+    motors_.clear();
+    for (const auto& name : params.requireBlockNames("wheels")) {
+      const robot_core::Params p = params.block("wheels/" + name);
       Motor m;
-      const std::string side = requireString(p, "side");
-      requireOneOf(p, "side", side, {"left", "right"});
+      const std::string side = p.requireString("side");
+      p.requireOneOf("side", side, {"left", "right"});
       m.left = side == "left";
       (m.left ? has_left : has_right) = true;
-      m.motor = optionalString(p, "motor", name);
-      m.units_per_mps = requireDouble(p, "units_per_mps");
+      m.motor = p.optionalString("motor", name);
+      m.units_per_mps = p.requireDouble("units_per_mps");
       if (m.units_per_mps == 0.0 || !std::isfinite(m.units_per_mps))
-        throw ParameterError("parameter " + qualified(p, "units_per_mps") + " = 0: must be a non-zero number");
-      m.max_value = requireInt(p, "max_value");
-      requirePositive(p, "max_value", m.max_value);
-      m.pub = ctx.nh.advertise<hcl_drivers::MotorCommand>(requireString(p, "topic"), 1);
+        throw robot_core::ParameterError("parameter " + p.qualified("units_per_mps") + " = 0: must be a non-zero number");
+      m.max_value = p.requireInt("max_value");
+      p.requirePositive("max_value", m.max_value);
+      m.topic = p.requireString("topic");
       motors_.push_back(std::move(m));
     }
     if (!has_left || !has_right)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "wheels") + " needs at least one wheel with side: left and one with side: right");
+      throw robot_core::ParameterError("parameter " + params.qualified("wheels") +
+                                       " needs at least one wheel with side: left and one with side: right");
+    teleop_timeout_ = params.optionalDouble("teleop_timeout", 0.5);
+    params.requirePositive("teleop_timeout", teleop_timeout_);
+    teleop_topic_ = params.optionalString("teleop_topic", "/cmd_vel");
+  }
+
+  void init(DeviceContext& ctx) override {
+    for (Motor& m : motors_) m.pub = ctx.nh.advertise<hcl_drivers::MotorCommand>(m.topic, 1);
     cmd_ = addCommandInput<geometry_msgs::Twist>(ctx.pnh, "cmd_vel", "cmd_vel", Wake::kOnArrival);
-    teleop_timeout_ = optionalDouble(ctx.pnh, "teleop_timeout", 0.5);
-    requirePositive(ctx.pnh, "teleop_timeout", teleop_timeout_);
-    const std::string teleop_topic = optionalString(ctx.pnh, "teleop_topic", "/cmd_vel");
-    if (!teleop_topic.empty()) {
-      teleop_ = addCommandInput<geometry_msgs::Twist>(ctx.nh, teleop_topic, "teleop", Wake::kOnArrival);
+    if (!teleop_topic_.empty()) {
+      teleop_ = addCommandInput<geometry_msgs::Twist>(ctx.nh, teleop_topic_, "teleop", Wake::kOnArrival);
       match_end_sub_ = ctx.nh.subscribe<std_msgs::Time>("/effectors/match_end", 1, [this](const std_msgs::Time::ConstPtr& m) {
         std::lock_guard<std::mutex> lk(match_mutex_);
         match_end_ = m->data;
@@ -137,7 +140,7 @@ class DifferentialDrive : public Effector {
  private:
   struct Motor {
     bool left = true;
-    std::string motor;
+    std::string motor, topic;
     double units_per_mps = 1.0;
     int max_value = 0;
     ros::Publisher pub;
@@ -192,6 +195,7 @@ class DifferentialDrive : public Effector {
   unsigned long teleop_used_ = 0, teleop_ignored_ = 0, teleop_overridden_ = 0;
   std::atomic<const char*> source_{"none"};  // what drives now; read by diagnose()
   double teleop_timeout_ = 0.5;
+  std::string teleop_topic_;
   WheelSpeeds current_;
   double track_width_ = 0.0, wheel_speed_clamp_ = 0.0, max_acceleration_ = 0.0, cmd_timeout_ = 0.3, period_ = 0.02;
   unsigned long timeouts_ = 0;

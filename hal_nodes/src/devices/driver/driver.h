@@ -116,6 +116,9 @@ class Driver : public Effector {
              follower_(driver::AutopilotConfig(), driver::PathFollowerConfig()), avoidance_(driver::AvoidanceConfig()),
              recovery_(driver::RecoveryConfig(), driver::AutopilotConfig()), limiter_(driver::MotionLimits()) {}
 
+  // Reads the controllers' and the device's configuration (driver_config.h, recovery.h).
+  void configure(const robot_core::Params& params) override;
+  // Builds the controllers (with the table's size from /table), subscribes, starts the servers.
   void init(DeviceContext& ctx) override;
 
   // Localization, odometry, the drive effector's status, path edits, and for avoidance the rangers
@@ -261,6 +264,9 @@ class Driver : public Effector {
   // ---------------------------------------------------------------- state
   driver::AutopilotConfig config_;
   driver::PathFollowerConfig path_config_;
+  driver::AvoidanceConfig avoidance_config_;  // as configured; init() adds the table's size
+  robot_core::Params avoidance_params_;       // ~avoidance, to name it when the table makes it invalid
+  driver::RecoveryConfig recovery_config_;
   driver::Autopilot autopilot_;
   driver::StraightMove straight_;
   driver::Rotation rotation_;

@@ -5,25 +5,32 @@ namespace hal_nodes {
 
 using namespace driver;
 using namespace driver_device;
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
+
+void Driver::configure(const robot_core::Params& params) {
+  // the readers the bench and tests use too
+  config_ = readAutopilotConfig(params);
+  avoidance_config_ = readAvoidanceConfig(params, config_);
+  avoidance_params_ = params["avoidance"];
+  settings_ = readDriverDeviceConfig(params);
+  path_config_ = readPathFollowerConfig(params);
+  recovery_config_ = readRecoveryConfig(params);
+}
 
 void Driver::init(DeviceContext& ctx) {
   period_ = 1.0 / ctx.rate;
-  const robot_core::Params params = robot_core::Params::of(ctx.pnh);  // the reader the bench and tests use too
-  const AutopilotConfig ap = readAutopilotConfig(params);
-  AvoidanceConfig av = readAvoidanceConfig(params, ap);
-  av.table_length = optionalDouble(ctx.nh, "/table/length", av.table_length);
-  av.table_width = optionalDouble(ctx.nh, "/table/width", av.table_width);
-  params["avoidance"].check("", av.invalidReason());
-  settings_ = readDriverDeviceConfig(params);
-  config_ = ap;
+  // The table's size is the table's, not the driver's: /table, outside the driver's block.
+  AvoidanceConfig av = avoidance_config_;
+  const robot_core::Params table = robot_core::Params::of(ros::NodeHandle("/table"));
+  av.table_length = table.optionalDouble("length", av.table_length);
+  av.table_width = table.optionalDouble("width", av.table_width);
+  avoidance_params_.check("", av.invalidReason());
+  const AutopilotConfig& ap = config_;
   autopilot_ = Autopilot(ap);
   straight_ = StraightMove(ap);
   rotation_ = Rotation(ap);
-  path_config_ = readPathFollowerConfig(params);
   follower_ = PathFollower(ap, path_config_);
   avoidance_ = Avoidance(av);
-  recovery_ = Recovery(readRecoveryConfig(params), ap);
+  recovery_ = Recovery(recovery_config_, ap);
   limiter_ = VelocityLimiter(ap.limits);
   subscribeInputs(ctx);
   cmd_pub_ = ctx.nh.advertise<geometry_msgs::Twist>(settings_.cmd_vel_topic, 1);

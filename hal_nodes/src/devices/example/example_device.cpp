@@ -22,21 +22,23 @@
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class ExampleDevice : public Effector {
  public:
+  void configure(const robot_core::Params& params) override {
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    max_command_age_ = params.optionalDouble("max_command_age", 0.5);
+    params.requirePositive("max_command_age", max_command_age_);
+    warn_above_ = params.optionalDouble("warn_above", 1.0);
+    params.requireInRange("warn_above", warn_above_, 0.0, 1.0);
+    board_state_topic_ = params.optionalString("board_state", "/hcl/example_board/state");
+    board_lamp_topic_ = params.optionalString("board_lamp", "/hcl/example_board/lamp_pwm");
+  }
+
   void init(DeviceContext& ctx) override {
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    max_command_age_ = optionalDouble(ctx.pnh, "max_command_age", 0.5);
-    requirePositive(ctx.pnh, "max_command_age", max_command_age_);
-    warn_above_ = optionalDouble(ctx.pnh, "warn_above", 1.0);
-    requireInRange(ctx.pnh, "warn_above", warn_above_, 0.0, 1.0);
-    board_ = addInput<hcl_drivers::ExampleBoardState>(
-        ctx.nh, optionalString(ctx.pnh, "board_state", "/hcl/example_board/state"), "board");
+    board_ = addInput<hcl_drivers::ExampleBoardState>(ctx.nh, board_state_topic_, "board");
     brightness_ = addCommandInput<std_msgs::Float64>(ctx.pnh, "lamp", "lamp command");
-    lamp_pub_ = ctx.nh.advertise<std_msgs::UInt8>(optionalString(ctx.pnh, "board_lamp", "/hcl/example_board/lamp_pwm"), 1);
+    lamp_pub_ = ctx.nh.advertise<std_msgs::UInt8>(board_lamp_topic_, 1);
     reading_pub_ = ctx.pnh.advertise<ExampleReading>("reading", 1);
   }
 
@@ -77,6 +79,7 @@ class ExampleDevice : public Effector {
   std::shared_ptr<LatestValue<std_msgs::Float64>> brightness_;
   ros::Publisher lamp_pub_;
   ros::Publisher reading_pub_;
+  std::string board_state_topic_, board_lamp_topic_;
   double max_input_age_ = 0.5;
   double max_command_age_ = 0.5;
   double warn_above_ = 1.0;

@@ -31,44 +31,50 @@
 
 #include "hal_nodes/devices/contact_input.h"
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class HandEffector : public Effector {
  public:
-  void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;  // the boards' messages
-    for (const auto& name : requireBlockNames(ctx.pnh, "fingers")) {
-      ros::NodeHandle p(ctx.pnh, "fingers/" + name);
+  void configure(const robot_core::Params& params) override {
+    fingers_.clear();
+    for (const auto& name : params.requireBlockNames("fingers")) {
+      const robot_core::Params p = params.block("fingers/" + name);
       Finger f;
-      f.open_us = requireInt(p, "open_us");
-      f.closed_us = requireInt(p, "closed_us");
-      requireInRange(p, "open_us", f.open_us, 500, 2500);
-      requireInRange(p, "closed_us", f.closed_us, 500, 2500);
-      f.pub = ctx.nh.advertise<std_msgs::UInt16>(requireString(p, "topic"), 1, true);
+      f.open_us = p.requireInt("open_us");
+      f.closed_us = p.requireInt("closed_us");
+      p.requireInRange("open_us", f.open_us, 500, 2500);
+      p.requireInRange("closed_us", f.closed_us, 500, 2500);
+      f.topic = p.requireString("topic");
       fingers_.push_back(std::move(f));
     }
-    finger_time_ = optionalDouble(ctx.pnh, "finger_time", 0.6);
-    requirePositive(ctx.pnh, "finger_time", finger_time_);
-    ros::NodeHandle lift(ctx.pnh, "lift");
-    lift_pub_ = ctx.nh.advertise<std_msgs::Int32>(requireString(lift, "target"), 1, true);
-    stepper_ = requireString(lift, "stepper");
-    steps_per_meter_ = requireDouble(lift, "steps_per_meter");
-    requirePositive(lift, "steps_per_meter", steps_per_meter_);
-    max_height_ = requireDouble(lift, "max_height");
-    requirePositive(lift, "max_height", max_height_);
-    tolerance_ = optionalInt(ctx.pnh, "tolerance_steps", 5);
-    requireInRange(ctx.pnh, "tolerance_steps", tolerance_, 0, 1000);
-    timeout_ = optionalDouble(ctx.pnh, "timeout", 8.0);
-    requirePositive(ctx.pnh, "timeout", timeout_);
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    state_ = addInput<StepperBoardState>(ctx.nh, requireString(lift, "state"), "stepper board");
-    if (ctx.pnh.hasParam("holding_sensor")) {
-      holding_sensor_ = ContactSpec::read(ctx.pnh, "holding_sensor");
+    finger_time_ = params.optionalDouble("finger_time", 0.6);
+    params.requirePositive("finger_time", finger_time_);
+    const robot_core::Params lift = params["lift"];
+    lift_target_topic_ = lift.requireString("target");
+    stepper_ = lift.requireString("stepper");
+    steps_per_meter_ = lift.requireDouble("steps_per_meter");
+    lift.requirePositive("steps_per_meter", steps_per_meter_);
+    max_height_ = lift.requireDouble("max_height");
+    lift.requirePositive("max_height", max_height_);
+    tolerance_ = params.optionalInt("tolerance_steps", 5);
+    params.requireInRange("tolerance_steps", tolerance_, 0, 1000);
+    timeout_ = params.optionalDouble("timeout", 8.0);
+    params.requirePositive("timeout", timeout_);
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    lift_state_topic_ = lift.requireString("state");
+    holding_sensor_.reset();
+    if (params.has("holding_sensor")) holding_sensor_ = ContactSpec::read(params, "holding_sensor");
+  }
+
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;  // the boards' messages
+    for (Finger& f : fingers_) f.pub = ctx.nh.advertise<std_msgs::UInt16>(f.topic, 1, true);
+    lift_pub_ = ctx.nh.advertise<std_msgs::Int32>(lift_target_topic_, 1, true);
+    state_ = addInput<StepperBoardState>(ctx.nh, lift_state_topic_, "stepper board");
+    if (holding_sensor_) {
       holding_input_ = addInput<DigitalInputs>(ctx.nh, holding_sensor_->topic, "holding sensor");
       holding_pub_ = ctx.pnh.advertise<std_msgs::Bool>("holding", 1, true);
     }
@@ -124,6 +130,7 @@ class HandEffector : public Effector {
  private:
   struct Finger {
     int open_us = 1500, closed_us = 1500;
+    std::string topic;
     ros::Publisher pub;
   };
 
@@ -198,7 +205,7 @@ class HandEffector : public Effector {
   ros::Publisher lift_pub_;
   HandGoal goal_;
   ros::Time goal_start_;
-  std::string stepper_;
+  std::string stepper_, lift_target_topic_, lift_state_topic_;
   double steps_per_meter_ = 1.0, max_height_ = 0.0, finger_time_ = 0.6, timeout_ = 8.0, max_input_age_ = 0.5;
   int tolerance_ = 5, target_steps_ = 0;
   std::optional<ContactSpec> holding_sensor_;

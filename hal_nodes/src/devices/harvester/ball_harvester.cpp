@@ -28,24 +28,30 @@
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class BallHarvester : public Effector {
  public:
+  void configure(const robot_core::Params& params) override {
+    motor_ = params.optionalString("motor", "roller");
+    max_value_ = params.requireInt("max_value");
+    if (max_value_ == 0)
+      throw robot_core::ParameterError("parameter " + params.qualified("max_value") + " = 0: must be non-zero");
+    motor_topic_ = params.requireString("motor_topic");
+    sensor_.reset();
+    if (params.has("ball_sensor")) {
+      sensor_ = ContactSpec::read(params, "ball_sensor");
+      empty_after_ = params.optionalDouble("empty_after", 1.5);
+      params.requirePositive("empty_after", empty_after_);
+    }
+  }
+
   void init(DeviceContext& ctx) override {
     using namespace hcl_drivers;  // the boards' messages
-    motor_ = optionalString(ctx.pnh, "motor", "roller");
-    max_value_ = requireInt(ctx.pnh, "max_value");
-    if (max_value_ == 0) throw ParameterError("parameter " + qualified(ctx.pnh, "max_value") + " = 0: must be non-zero");
-    motor_pub_ = ctx.nh.advertise<MotorCommand>(requireString(ctx.pnh, "motor_topic"), 1);
+    motor_pub_ = ctx.nh.advertise<MotorCommand>(motor_topic_, 1);
     speed_ = addCommandInput<std_msgs::Float64>(ctx.pnh, "speed", "speed");
-    if (ctx.pnh.hasParam("ball_sensor")) {
-      sensor_ = ContactSpec::read(ctx.pnh, "ball_sensor");
+    if (sensor_) {
       sensor_input_ = addInput<DigitalInputs>(ctx.nh, sensor_->topic, "ball sensor");
       ball_pub_ = ctx.pnh.advertise<std_msgs::Bool>("ball_present", 1);
       held_pub_ = ctx.pnh.advertise<std_msgs::Int32>("held", 1, true);
-      empty_after_ = optionalDouble(ctx.pnh, "empty_after", 1.5);
-      requirePositive(ctx.pnh, "empty_after", empty_after_);
       publishHeld();
     }
   }
@@ -114,7 +120,7 @@ class BallHarvester : public Effector {
     held_pub_.publish(m);
   }
 
-  std::string motor_;
+  std::string motor_, motor_topic_;
   int max_value_ = 0, last_ = 0;
   std::atomic<int> held_{0};  // read by diagnose() on the diagnostics thread
   bool ball_before_ = false;

@@ -25,36 +25,45 @@
 #include <map>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 #include "hal_nodes/devices/contact_input.h"
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class HumanInterface : public Device {
  public:
-  void init(DeviceContext& ctx) override {
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    cord_ = ContactSpec::read(ctx.pnh, "start_cord");
-    sides_ = optionalStringList(ctx.pnh, "sides", {});
-    if (sides_.size() != 2) throw ParameterError("parameter " + qualified(ctx.pnh, "sides") + " must list exactly 2 names");
-    if (ctx.pnh.hasParam("side_switch")) side_switch_ = ContactSpec::read(ctx.pnh, "side_switch");
-    strategies_ = optionalStringList(ctx.pnh, "strategies", {});
-    if (strategies_.empty()) throw ParameterError("parameter " + qualified(ctx.pnh, "strategies") + " must list at least one strategy");
-    for (const auto& k : optionalBlockNames(ctx.pnh, "keys")) keys_.push_back(Key{k, ContactSpec::read(ctx.pnh, "keys/" + k)});
-    display_ = optionalString(ctx.pnh, "display", "none");
-    requireOneOf(ctx.pnh, "display", display_, {"lcd", "leds", "none"});
-    if (display_ == "lcd") lcd_pub_ = ctx.nh.advertise<std_msgs::String>(requireString(ctx.pnh, "lcd"), 1);
+  void configure(const robot_core::Params& params) override {
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    cord_ = ContactSpec::read(params, "start_cord");
+    sides_ = params.optionalStringList("sides", {});
+    if (sides_.size() != 2)
+      throw robot_core::ParameterError("parameter " + params.qualified("sides") + " must list exactly 2 names");
+    side_switch_.reset();
+    if (params.has("side_switch")) side_switch_ = ContactSpec::read(params, "side_switch");
+    strategies_ = params.optionalStringList("strategies", {});
+    if (strategies_.empty())
+      throw robot_core::ParameterError("parameter " + params.qualified("strategies") +
+                                       " must list at least one strategy");
+    keys_.clear();
+    for (const auto& k : params.blockNames("keys")) keys_.push_back(Key{k, ContactSpec::read(params, "keys/" + k)});
+    display_ = params.optionalString("display", "none");
+    params.requireOneOf("display", display_, {"lcd", "leds", "none"});
+    if (display_ == "lcd") lcd_topic_ = params.requireString("lcd");
     if (display_ == "leds") {
-      leds_pub_ = ctx.nh.advertise<std_msgs::UInt16>(requireString(ctx.pnh, "leds"), 1);
+      leds_topic_ = params.requireString("leds");
       for (const char* n : {"armed", "started", "side"}) {
-        const int b = requireInt(ros::NodeHandle(ctx.pnh, "led_bits"), n);
-        requireInRange(ros::NodeHandle(ctx.pnh, "led_bits"), n, b, 0, 15);
+        const std::string name = std::string("led_bits/") + n;
+        const int b = params.requireInt(name);
+        params.requireInRange(name, b, 0, 15);
         led_bits_[n] = b;
       }
     }
+  }
+
+  void init(DeviceContext& ctx) override {
+    if (display_ == "lcd") lcd_pub_ = ctx.nh.advertise<std_msgs::String>(lcd_topic_, 1);
+    if (display_ == "leds") leds_pub_ = ctx.nh.advertise<std_msgs::UInt16>(leds_topic_, 1);
     auto topicInput = [&](const std::string& topic) {
       if (!inputs_.count(topic)) inputs_[topic] = addInput<hcl_drivers::DigitalInputs>(ctx.nh, topic, topic);
     };
@@ -146,7 +155,7 @@ class HumanInterface : public Device {
   std::shared_ptr<LatestValue<std_msgs::String>> text_;
   std::map<std::string, int> led_bits_;
   ros::Publisher pub_, lcd_pub_, leds_pub_;
-  std::string display_, last_lcd_;
+  std::string display_, last_lcd_, lcd_topic_, leds_topic_;
   ros::Time last_lcd_time_;
   double max_input_age_ = 0.5;
   std::size_t side_ = 0, strategy_ = 0;

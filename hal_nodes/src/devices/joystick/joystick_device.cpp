@@ -23,32 +23,36 @@
 #include <cmath>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class JoystickDevice : public Device {
  public:
-  void init(DeviceContext& ctx) override {
-    axes_ = optionalIntMap(ctx.pnh, "axes");
-    buttons_ = optionalIntMap(ctx.pnh, "buttons");
+  void configure(const robot_core::Params& params) override {
+    axes_ = params.optionalIntMap("axes");
+    buttons_ = params.optionalIntMap("buttons");
     if (axes_.empty() && buttons_.empty())
-      throw ParameterError("parameters " + qualified(ctx.pnh, "axes") + " / " + qualified(ctx.pnh, "buttons") +
-                           ": name at least one axis or button (name: index)");
-    const auto inverted = optionalStringList(ctx.pnh, "inverted_axes", {});
+      throw robot_core::ParameterError("parameters " + params.qualified("axes") + " / " + params.qualified("buttons") +
+                                       ": name at least one axis or button (name: index)");
+    const auto inverted = params.optionalStringList("inverted_axes", {});
     for (const auto& n : inverted) {
       if (std::none_of(axes_.begin(), axes_.end(), [&](const auto& a) { return a.first == n; }))
-        throw ParameterError("parameter " + qualified(ctx.pnh, "inverted_axes") + ": '" + n + "' is not one of ~axes");
+        throw robot_core::ParameterError("parameter " + params.qualified("inverted_axes") + ": '" + n +
+                                         "' is not one of ~axes");
     }
+    invert_.clear();
     for (const auto& a : axes_) invert_.push_back(std::find(inverted.begin(), inverted.end(), a.first) != inverted.end());
-    dead_zone_ = optionalDouble(ctx.pnh, "dead_zone", 0.05);
-    requireInRange(ctx.pnh, "dead_zone", dead_zone_, 0.0, 0.9);
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
+    dead_zone_ = params.optionalDouble("dead_zone", 0.05);
+    params.requireInRange("dead_zone", dead_zone_, 0.0, 0.9);
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
     held_.assign(buttons_.size(), false);
-    joy_ = addInput<sensor_msgs::Joy>(ctx.nh, requireString(ctx.pnh, "joy"), "joy");
+    joy_topic_ = params.requireString("joy");
+  }
+
+  void init(DeviceContext& ctx) override {
+    joy_ = addInput<sensor_msgs::Joy>(ctx.nh, joy_topic_, "joy");
     state_pub_ = ctx.pnh.advertise<JoystickState>("state", 1);
     event_pub_ = ctx.pnh.advertise<JoystickEvent>("events", 50);
   }
@@ -101,6 +105,7 @@ class JoystickDevice : public Device {
   std::vector<bool> invert_, held_;
   std::shared_ptr<LatestValue<sensor_msgs::Joy>> joy_;
   ros::Publisher state_pub_, event_pub_;
+  std::string joy_topic_;
   double dead_zone_ = 0.05, max_input_age_ = 0.5;
 };
 

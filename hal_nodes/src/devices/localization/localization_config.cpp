@@ -23,19 +23,32 @@ void readInRange(const Params& p, const std::string& name, double* value, double
 
 }  // namespace
 
-// ~ and /table each read with one request to the master (Params::of).
-LocalizationConfig readLocalizationConfig(const ros::NodeHandle& pnh) {
-  return readLocalizationConfig(Params::of(pnh), Params::of(ros::NodeHandle("/table")));
+LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) {
+  LocalizationConfig c = readLocalizationConfig(p);
+  readTableConfig(table, p, &c);
+  return c;
 }
 
-LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) {
-  LocalizationConfig c;
+void readTableConfig(const Params& table, const Params& p, LocalizationConfig* c) {
   // ---- the table (one source of truth: /table) ----
-  c.table_length = table.requireDouble("length");
-  c.table_width = table.requireDouble("width");
-  table.requireInRange("length", c.table_length, 0.1, 100.0);
-  table.requireInRange("width", c.table_width, 0.1, 100.0);
-  readInRange(p, "robot_radius", &c.robot_radius, 0.0, 0.49 * std::min(c.table_length, c.table_width));
+  c->table_length = table.requireDouble("length");
+  c->table_width = table.requireDouble("width");
+  table.requireInRange("length", c->table_length, 0.1, 100.0);
+  table.requireInRange("width", c->table_width, 0.1, 100.0);
+  // ~robot_radius (read with the device's block) is bounded by the table
+  p.requireInRange("robot_radius", c->robot_radius, 0.0, 0.49 * std::min(c->table_length, c->table_width));
+  if (c->beacons_enabled) {
+    mcl::BeaconBeltsConfig& bc = c->beacons;
+    bc.beacons.clear();
+    for (const auto& b : table.optionalDoubleRows("beacons", 2)) bc.beacons.push_back({b[0], b[1]});
+    if (bc.beacons.empty()) table.check("beacons", "must be a non-empty list of [x, y] beacon positions");
+  }
+}
+
+LocalizationConfig readLocalizationConfig(const Params& p) {
+  LocalizationConfig c;
+  // ~robot_radius: its range depends on the table's size, checked by readTableConfig
+  c.robot_radius = p.optionalDouble("robot_radius", c.robot_radius);
   for (const auto& o : p.optionalDoubleRows("obstacles", 4)) {
     if (!(o[0] < o[2] && o[1] < o[3])) p.check("obstacles", "each [x0, y0, x1, y1] needs x0 < x1 and y0 < y1");
     c.obstacles.push_back({o[0], o[1], o[2], o[3]});
@@ -106,9 +119,7 @@ LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) 
   // ---- checking inputs ----
   c.beacons_enabled = p.optionalBool("beacons/enabled", c.beacons_enabled);
   if (c.beacons_enabled) {
-    mcl::BeaconBeltsConfig& bc = c.beacons;
-    for (const auto& b : table.optionalDoubleRows("beacons", 2)) bc.beacons.push_back({b[0], b[1]});
-    if (bc.beacons.empty()) table.check("beacons", "must be a non-empty list of [x, y] beacon positions");
+    mcl::BeaconBeltsConfig& bc = c.beacons;  // the beacons' positions: /table (readTableConfig)
     readInRange(p, "beacons/reliability", &bc.reliability, 0.0, 1.0);
     readInRange(p, "beacons/range_std", &bc.range_std, 1e-4, 1.0);
     bc.use_measurement_variance = p.optionalBool("beacons/use_measurement_variance", bc.use_measurement_variance);

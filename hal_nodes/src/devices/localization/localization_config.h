@@ -1,5 +1,5 @@
 // The Localization device's parameters (~ of /hal/localization, and the table from /table) read
-// once into one validated struct: the filter's, each input's and the outputs' settings. Every
+// into one validated struct: the filter's, each input's and the outputs' settings. Every
 // error is a ParameterError naming the parameter, as everywhere.
 #pragma once
 
@@ -56,9 +56,14 @@ struct LocalizationConfig {
   double cloud_period = 0.2;         // [s] between particle clouds
 };
 
-// Reads ~ (pnh) and /table. Throws ParameterError.
-LocalizationConfig readLocalizationConfig(const ros::NodeHandle& pnh);
-// The same from readers already placed (the device's block and /table of a YAML file: check_hal_config).
+// The device's own block (~, the device's configure()): everything but the table's part, which
+// stays at its defaults. Throws ParameterError.
+LocalizationConfig readLocalizationConfig(const robot_core::Params& device);
+// The table's part from /table (outside the device's block: read by the device's init()): its
+// size and, with the beacons enabled, their positions; checks ~robot_radius (of `device`, read
+// into `c` already) against the size. Throws ParameterError.
+void readTableConfig(const robot_core::Params& table, const robot_core::Params& device, LocalizationConfig* c);
+// Both (the device's block and /table of a YAML file: check_hal_config).
 LocalizationConfig readLocalizationConfig(const robot_core::Params& device, const robot_core::Params& table);
 
 }  // namespace localization

@@ -81,6 +81,7 @@
 #include <mutex>
 #include <string>
 #include <vector>
+#include <optional>
 
 #include "hal_nodes/device_nodelet.h"
 #include "hal_nodes/mcl/mcl.h"
@@ -114,11 +115,18 @@ class LocalizationDevice : public Device {
  public:
   LocalizationDevice() : events_(20000) {}
 
+  void configure(const robot_core::Params& params) override {
+    config_ = localization::readLocalizationConfig(params);
+    params_ = params;
+  }
+
   void init(DeviceContext& ctx) override {
-    nh_ = ctx.nh;
-    pnh_ = ctx.pnh;
+    nh_.emplace(ctx.nh);
+    pnh_.emplace(ctx.pnh);
     name_ = ctx.name;
-    const LocalizationConfig c = localization::readLocalizationConfig(ctx.pnh);
+    // The table's size and beacons are the table's, outside the device's block: /table.
+    LocalizationConfig c = config_;
+    localization::readTableConfig(robot_core::Params::of(ros::NodeHandle("/table")), params_, &c);
     save_pose_period_ = c.save_pose_period;
     lost_error_after_ = c.lost_error_after;
     latency_ = c.latency;
@@ -135,8 +143,8 @@ class LocalizationDevice : public Device {
     else
       filter_->globalLocalization();
 
-    outputs_ = std::make_unique<LocalizationOutputs>(nh_, c);
-    initial_sub_ = nh_.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+    outputs_ = std::make_unique<LocalizationOutputs>(*nh_, c);
+    initial_sub_ = nh_->subscribe<geometry_msgs::PoseWithCovarianceStamped>(
         "/initialpose", 2, [this](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) { onInitialPose(*m); });
     // Ours under the device's name, and amcl's names beside it.
     auto global = [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -152,11 +160,11 @@ class LocalizationDevice : public Device {
       return true;
     };
     global_srv_ = ctx.pnh.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>("global_localization", global);
-    amcl_global_srv_ = nh_.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>("/global_localization", global);
+    amcl_global_srv_ = nh_->advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>("/global_localization", global);
     // amcl's request_nomotion_update: an update without motion, and the particles published.
     // The filter applies every measurement even standing still (amcl waits for motion), so this
     // is one step now with what the inputs hold, and the cloud out at once.
-    nomotion_srv_ = nh_.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
+    nomotion_srv_ = nh_->advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
         "/request_nomotion_update", [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
           std::lock_guard<std::mutex> lk(filter_mutex_);
           if (last_step_ > 0.0) filter_->update(last_step_);
@@ -291,9 +299,9 @@ class LocalizationDevice : public Device {
     // Never narrower than 10 cm / 0.15 rad: between the last save and a respawned HAL the robot
     // drives on until its wheels stop (the HCL's command timeout, the boards' watchdogs): up to
     // ~20 cm at match speed. A cloud that misses the truth converges confidently next to it.
-    pnh_.setParam("initial_pose", std::vector<double>{pose.x, pose.y, pose.theta});
-    pnh_.setParam("initial_std_xy", std::max(0.10, std::sqrt(std::max(0.0, var_xy))));
-    pnh_.setParam("initial_std_theta", std::max(0.15, std::sqrt(std::max(0.0, var_theta))));
+    pnh_->setParam("initial_pose", std::vector<double>{pose.x, pose.y, pose.theta});
+    pnh_->setParam("initial_std_xy", std::max(0.10, std::sqrt(std::max(0.0, var_xy))));
+    pnh_->setParam("initial_std_theta", std::max(0.15, std::sqrt(std::max(0.0, var_theta))));
   }
 
   // The advancing input: /odom (primary, it triggers a step), or encoder pairs under it.
@@ -303,13 +311,13 @@ class LocalizationDevice : public Device {
     if (!use_pairs_) pairs.push_back({"odom", 1.0});
     odom_ = std::make_shared<mcl::OdometryInput>(pairs, c.motion);
     filter_->addAdvancing(odom_);
-    subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(c.odom_topic, 200, [this](const nav_msgs::Odometry::ConstPtr& m) {
+    subs_.push_back(nh_->subscribe<nav_msgs::Odometry>(c.odom_topic, 200, [this](const nav_msgs::Odometry::ConstPtr& m) {
       // The primary odometry goes after the pairs of the same stamp: it triggers the step.
       push(m->header.stamp, 1, odometryPayload(Payload::kOdom, 0, *m));
       wakeRefresh(m->header.stamp);  // the estimate follows it out at once
     }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
     for (std::size_t i = 0; i < c.pair_topics.size(); ++i)
-      subs_.push_back(nh_.subscribe<nav_msgs::Odometry>(c.pair_topics[i], 200, [this, i](const nav_msgs::Odometry::ConstPtr& m) {
+      subs_.push_back(nh_->subscribe<nav_msgs::Odometry>(c.pair_topics[i], 200, [this, i](const nav_msgs::Odometry::ConstPtr& m) {
         push(m->header.stamp, 0, odometryPayload(Payload::kPair, static_cast<int>(i), *m));
       }));
   }
@@ -329,14 +337,14 @@ class LocalizationDevice : public Device {
       beacons_ = std::make_shared<mcl::BeaconBelts>(c.beacons, table_);
       filter_->addChecking(beacons_);
       filter_->addSampler(beacons_);
-      subs_.push_back(nh_.subscribe<BeaconRange>(c.beacons_topic, 200, [this](const BeaconRange::ConstPtr& m) {
+      subs_.push_back(nh_->subscribe<BeaconRange>(c.beacons_topic, 200, [this](const BeaconRange::ConstPtr& m) {
         push(m->header.stamp, 2, payload(Payload::kBeacon, m->beacon_id, m->range, m->variance));
       }));
     }
     if (c.compass_enabled) {
       compass_ = std::make_shared<mcl::Compass>(c.compass);
       filter_->addChecking(compass_);
-      subs_.push_back(nh_.subscribe<Heading>(c.compass_topic, 100, [this](const Heading::ConstPtr& m) {
+      subs_.push_back(nh_->subscribe<Heading>(c.compass_topic, 100, [this](const Heading::ConstPtr& m) {
         push(m->header.stamp, 2, payload(Payload::kCompass, 0, m->yaw, m->variance));
       }));
     }
@@ -344,14 +352,14 @@ class LocalizationDevice : public Device {
       rangers_ = std::make_shared<mcl::Rangers>(c.rangers, c.rangers_reliability, table_);
       filter_->addChecking(rangers_);
       for (std::size_t i = 0; i < c.ranger_topics.size(); ++i)
-        subs_.push_back(nh_.subscribe<sensor_msgs::Range>(c.ranger_topics[i], 100, [this, i](const sensor_msgs::Range::ConstPtr& m) {
+        subs_.push_back(nh_->subscribe<sensor_msgs::Range>(c.ranger_topics[i], 100, [this, i](const sensor_msgs::Range::ConstPtr& m) {
           push(m->header.stamp, 2, payload(Payload::kRanger, static_cast<int>(i), m->range, m->field_of_view));
         }));
     }
     if (!c.bumpers.empty()) {
       bumpers_ = std::make_shared<mcl::Bumpers>(c.bumpers, c.bumpers_options, table_);
       filter_->addChecking(bumpers_);
-      subs_.push_back(nh_.subscribe<Contacts>(c.bumpers_topic, 100, [this](const Contacts::ConstPtr& m) {
+      subs_.push_back(nh_->subscribe<Contacts>(c.bumpers_topic, 100, [this](const Contacts::ConstPtr& m) {
         Payload p = payload(Payload::kBumpers, 0, 0.0, 0.0);
         p.closed = m->closed;
         push(m->header.stamp, 2, std::move(p));
@@ -462,7 +470,7 @@ class LocalizationDevice : public Device {
     ROS_INFO("%s: initial pose (%.3f, %.3f, %.3f) +- %.3f m, %.3f rad", name_.c_str(), p.x, p.y, p.theta, sxy, sth);
   }
 
-  ros::NodeHandle nh_;
+  std::optional<ros::NodeHandle> nh_;  // from init(): constructing a handle needs ros::init (a checker has none)
   std::string name_;
   std::shared_ptr<mcl::TableModel> table_;
   std::unique_ptr<mcl::Filter> filter_;
@@ -493,7 +501,9 @@ class LocalizationDevice : public Device {
   ros::Subscriber initial_sub_;
   ros::ServiceServer global_srv_, amcl_global_srv_, nomotion_srv_;
   bool force_cloud_ = false;  // request_nomotion_update: the cloud with the next publication
-  ros::NodeHandle pnh_;
+  std::optional<ros::NodeHandle> pnh_;  // from init(): constructing a handle needs ros::init (a checker has none)
+  LocalizationConfig config_;  // the device's block, as configure() read it
+  robot_core::Params params_;  // that block, to name ~robot_radius when the table refuses it
   double save_pose_period_ = 0.0;
   double lost_error_after_ = 1.0;
   double lost_since_ = -1.0;  // [s, sim time] when the filter last became lost; -1: not lost

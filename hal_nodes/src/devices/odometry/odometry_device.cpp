@@ -30,14 +30,13 @@
 #include <sstream>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 #include "hal_nodes/devices/odometry/encoder_tracker.h"
 #include "hal_nodes/devices/odometry/pair_alignment.h"
 #include "hal_nodes/devices/odometry/wheel_pair.h"
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
 
 namespace {
 
@@ -59,38 +58,47 @@ void fillPose(const PoseIntegrator& p, nav_msgs::Odometry& m) {
 
 class OdometryDevice : public Device {
  public:
-  void init(DeviceContext& ctx) override {
-    using namespace hcl_drivers;  // the boards' messages
-    odom_frame_ = optionalString(ctx.pnh, "odom_frame", "odom");
-    base_frame_ = optionalString(ctx.pnh, "base_frame", "base_link");
-    publish_tf_ = optionalBool(ctx.pnh, "publish_tf", true);
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.2);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    const std::string plausible = renamed(ctx.pnh, "plausible_wheel_speed", "max_wheel_speed");
-    plausible_wheel_speed_ = optionalDouble(ctx.pnh, plausible, 5.0);
-    requirePositive(ctx.pnh, plausible, plausible_wheel_speed_);
-    for (const auto& name : requireBlockNames(ctx.pnh, "pairs")) {
-      ros::NodeHandle p(ctx.pnh, "pairs/" + name);
+  void configure(const robot_core::Params& params) override {
+    odom_frame_ = params.optionalString("odom_frame", "odom");
+    base_frame_ = params.optionalString("base_frame", "base_link");
+    publish_tf_ = params.optionalBool("publish_tf", true);
+    max_input_age_ = params.optionalDouble("max_input_age", 0.2);
+    params.requirePositive("max_input_age", max_input_age_);
+    const std::string plausible = params.renamed("plausible_wheel_speed", "max_wheel_speed");
+    plausible_wheel_speed_ = params.optionalDouble(plausible, 5.0);
+    params.requirePositive(plausible, plausible_wheel_speed_);
+    topic_ = params.optionalString("topic", "/odom");
+    pairs_.clear();
+    for (const auto& name : params.requireBlockNames("pairs")) {
+      const robot_core::Params p = params.block("pairs/" + name);
       Pair pair;
       pair.name = name;
       pair.model.left_m_per_tick = 1.0 / nonZero(p, "left_ticks_per_meter");
       pair.model.right_m_per_tick = 1.0 / nonZero(p, "right_ticks_per_meter");
-      pair.model.track_width = requireDouble(p, "track_width");
-      requirePositive(p, "track_width", pair.model.track_width);
-      pair.reliability = optionalDouble(p, "reliability", 1.0);
-      requireInRange(p, "reliability", pair.reliability, 1e-6, 1.0);
-      pair.model.distance_noise = optionalDouble(p, "distance_noise", 0.01);
-      pair.model.heading_noise = optionalDouble(p, "heading_noise", 0.01);
-      pair.model.rotation_noise = optionalDouble(p, "rotation_noise", 0.01);
-      requireInRange(p, "distance_noise", pair.model.distance_noise, 0.0, 1.0);
-      requireInRange(p, "heading_noise", pair.model.heading_noise, 0.0, 1.0);
-      requireInRange(p, "rotation_noise", pair.model.rotation_noise, 0.0, 1.0);
-      pair.left = addInput<Counter>(ctx.nh, requireString(p, "left"), name + " left");
-      pair.right = addInput<Counter>(ctx.nh, requireString(p, "right"), name + " right");
-      pair.pub = ctx.pnh.advertise<nav_msgs::Odometry>(name, 5);
+      pair.model.track_width = p.requireDouble("track_width");
+      p.requirePositive("track_width", pair.model.track_width);
+      pair.reliability = p.optionalDouble("reliability", 1.0);
+      p.requireInRange("reliability", pair.reliability, 1e-6, 1.0);
+      pair.model.distance_noise = p.optionalDouble("distance_noise", 0.01);
+      pair.model.heading_noise = p.optionalDouble("heading_noise", 0.01);
+      pair.model.rotation_noise = p.optionalDouble("rotation_noise", 0.01);
+      p.requireInRange("distance_noise", pair.model.distance_noise, 0.0, 1.0);
+      p.requireInRange("heading_noise", pair.model.heading_noise, 0.0, 1.0);
+      p.requireInRange("rotation_noise", pair.model.rotation_noise, 0.0, 1.0);
+      pair.left_topic = p.requireString("left");
+      pair.right_topic = p.requireString("right");
       pairs_.push_back(std::move(pair));
     }
-    odom_pub_ = ctx.nh.advertise<nav_msgs::Odometry>(optionalString(ctx.pnh, "topic", "/odom"), 5);
+  }
+
+  void init(DeviceContext& ctx) override {
+    using namespace hcl_drivers;  // the boards' messages
+    for (Pair& pair : pairs_) {
+      pair.left = addInput<Counter>(ctx.nh, pair.left_topic, pair.name + " left");
+      pair.right = addInput<Counter>(ctx.nh, pair.right_topic, pair.name + " right");
+      pair.pub = ctx.pnh.advertise<nav_msgs::Odometry>(pair.name, 5);
+    }
+    odom_pub_ = ctx.nh.advertise<nav_msgs::Odometry>(topic_, 5);
     if (publish_tf_) tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
   }
 
@@ -193,6 +201,7 @@ class OdometryDevice : public Device {
     std::string name;
     WheelPairModel model;
     double reliability = 1.0;
+    std::string left_topic, right_topic;
     std::shared_ptr<LatestValue<Counter>> left, right;
     EncoderTracker left_tracker, right_tracker;
     int64_t left_ticks = 0, right_ticks = 0;  // unwrapped counts, summed from the trackers
@@ -207,10 +216,10 @@ class OdometryDevice : public Device {
     unsigned long dropouts = 0, resets = 0, rejected = 0;
   };
 
-  static double nonZero(const ros::NodeHandle& p, const std::string& name) {
-    const double v = requireDouble(p, name);
+  static double nonZero(const robot_core::Params& p, const std::string& name) {
+    const double v = p.requireDouble(name);
     if (v == 0.0 || !std::isfinite(v))
-      throw ParameterError("parameter " + qualified(p, name) + " = 0: must be a non-zero number");
+      throw robot_core::ParameterError("parameter " + p.qualified(name) + " = 0: must be a non-zero number");
     return v;
   }
 
@@ -262,7 +271,7 @@ class OdometryDevice : public Device {
   ros::Publisher odom_pub_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
   ros::Time last_tf_stamp_;
-  std::string odom_frame_, base_frame_;
+  std::string odom_frame_, base_frame_, topic_;
   bool publish_tf_ = true;
   bool all_stale_ = false;
   double max_input_age_ = 0.2;

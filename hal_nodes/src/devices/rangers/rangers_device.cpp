@@ -18,30 +18,35 @@
 #include <cmath>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 #include "hal_nodes/devices/rangers/range_filter.h"
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class RangersDevice : public Device {
  public:
-  void init(DeviceContext& ctx) override {
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    const RangeFilterConfig defaults = readFilter(ctx.pnh, RangeFilterConfig());
-    for (const auto& name : requireBlockNames(ctx.pnh, "rangers")) {
-      ros::NodeHandle p(ctx.pnh, "rangers/" + name);
+  void configure(const robot_core::Params& params) override {
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    const RangeFilterConfig defaults = readFilter(params, RangeFilterConfig());
+    rangers_.clear();
+    for (const auto& name : params.requireBlockNames("rangers")) {
+      const robot_core::Params p = params.block("rangers/" + name);
       Ranger r;
       r.name = name;
       r.filter = RangeFilter(readFilter(p, defaults));
-      r.frame_id = optionalString(p, "frame_id", "");
-      r.min_range = optionalDouble(p, "min_range", -1.0);
-      r.max_range = optionalDouble(p, "max_range", -1.0);
-      r.input = addInput<sensor_msgs::Range>(ctx.nh, requireString(p, "topic"), name, Wake::kOnArrival);
-      r.pub = ctx.pnh.advertise<sensor_msgs::Range>(name, 5);
+      r.frame_id = p.optionalString("frame_id", "");
+      r.min_range = p.optionalDouble("min_range", -1.0);
+      r.max_range = p.optionalDouble("max_range", -1.0);
+      r.topic = p.requireString("topic");
       rangers_.push_back(std::move(r));
+    }
+  }
+
+  void init(DeviceContext& ctx) override {
+    for (Ranger& r : rangers_) {
+      r.input = addInput<sensor_msgs::Range>(ctx.nh, r.topic, r.name, Wake::kOnArrival);
+      r.pub = ctx.pnh.advertise<sensor_msgs::Range>(r.name, 5);
     }
   }
 
@@ -81,7 +86,7 @@ class RangersDevice : public Device {
 
  private:
   struct Ranger {
-    std::string name, frame_id;
+    std::string name, frame_id, topic;
     double min_range = -1.0, max_range = -1.0;
     RangeFilter filter;
     std::shared_ptr<LatestValue<sensor_msgs::Range>> input;
@@ -89,17 +94,18 @@ class RangersDevice : public Device {
     ros::Time last_stamp;
   };
 
-  static RangeFilterConfig readFilter(const ros::NodeHandle& p, const RangeFilterConfig& d) {
+  static RangeFilterConfig readFilter(const robot_core::Params& p, const RangeFilterConfig& d) {
     RangeFilterConfig c;
-    const int window = optionalInt(p, "window", static_cast<int>(d.window));
+    const int window = p.optionalInt("window", static_cast<int>(d.window));
     if (window < 1 || window % 2 == 0 || window > 51)
-      throw ParameterError("parameter " + qualified(p, "window") + " = " + std::to_string(window) + ": must be odd, 1..51");
+      throw robot_core::ParameterError("parameter " + p.qualified("window") + " = " + std::to_string(window) +
+                                       ": must be odd, 1..51");
     c.window = static_cast<std::size_t>(window);
-    c.smoothing = optionalDouble(p, "smoothing", d.smoothing);
-    requireInRange(p, "smoothing", c.smoothing, 1e-3, 1.0);
-    c.step = optionalDouble(p, "step", d.step);
-    requirePositive(p, "step", c.step);
-    c.nearer_at_once = optionalBool(p, "nearer_at_once", d.nearer_at_once);
+    c.smoothing = p.optionalDouble("smoothing", d.smoothing);
+    p.requireInRange("smoothing", c.smoothing, 1e-3, 1.0);
+    c.step = p.optionalDouble("step", d.step);
+    p.requirePositive("step", c.step);
+    c.nearer_at_once = p.optionalBool("nearer_at_once", d.nearer_at_once);
     return c;
   }
 

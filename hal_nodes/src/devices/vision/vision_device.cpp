@@ -36,49 +36,53 @@
 #include <stdexcept>
 
 #include "hal_nodes/device_nodelet.h"
-#include <robot_core/parameter_blocks.h>
+#include <robot_core/params.h>
 
 namespace hal_nodes {
 
-using namespace robot_core::parameter_reader;  // as every device reads its parameters
-
 class VisionDevice : public Device {
  public:
-  void init(DeviceContext& ctx) override {
-    map_frame_ = optionalString(ctx.pnh, "map_frame", "map");
-    camera_frame_ = optionalString(ctx.pnh, "camera_frame", "");
-    hfov_ = optionalDouble(ctx.pnh, "horizontal_fov", 1.0);
-    requireInRange(ctx.pnh, "horizontal_fov", hfov_, 0.1, 3.0);
-    fx_ = optionalDouble(ctx.pnh, "fx", 0.0);
-    fy_ = optionalDouble(ctx.pnh, "fy", fx_);
-    cx_ = optionalDouble(ctx.pnh, "cx", -1.0);
-    cy_ = optionalDouble(ctx.pnh, "cy", -1.0);
-    pixel_std_ = optionalDouble(ctx.pnh, "pixel_std", 2.0);
-    requirePositive(ctx.pnh, "pixel_std", pixel_std_);
-    max_input_age_ = optionalDouble(ctx.pnh, "max_input_age", 0.5);
-    requirePositive(ctx.pnh, "max_input_age", max_input_age_);
-    table_length_ = optionalDouble(ros::NodeHandle(ctx.pnh, "table"), "length", 3.0);
-    table_width_ = optionalDouble(ros::NodeHandle(ctx.pnh, "table"), "width", 2.1);
-    for (const auto& kind : requireBlockNames(ctx.pnh, "elements")) {
-      ros::NodeHandle p(ctx.pnh, "elements/" + kind);
+  void configure(const robot_core::Params& params) override {
+    map_frame_ = params.optionalString("map_frame", "map");
+    camera_frame_ = params.optionalString("camera_frame", "");
+    hfov_ = params.optionalDouble("horizontal_fov", 1.0);
+    params.requireInRange("horizontal_fov", hfov_, 0.1, 3.0);
+    fx_ = params.optionalDouble("fx", 0.0);
+    fy_ = params.optionalDouble("fy", fx_);
+    cx_ = params.optionalDouble("cx", -1.0);
+    cy_ = params.optionalDouble("cy", -1.0);
+    pixel_std_ = params.optionalDouble("pixel_std", 2.0);
+    params.requirePositive("pixel_std", pixel_std_);
+    max_input_age_ = params.optionalDouble("max_input_age", 0.5);
+    params.requirePositive("max_input_age", max_input_age_);
+    table_length_ = params["table"].optionalDouble("length", 3.0);
+    table_width_ = params["table"].optionalDouble("width", 2.1);
+    kinds_.clear();
+    for (const auto& kind : params.requireBlockNames("elements")) {
+      const robot_core::Params p = params.block("elements/" + kind);
       Kind k;
       k.name = kind;
-      const auto lo = optionalDoubleList(p, "hsv_min", {});
-      const auto hi = optionalDoubleList(p, "hsv_max", {});
+      const auto lo = p.optionalDoubleList("hsv_min");
+      const auto hi = p.optionalDoubleList("hsv_max");
       if (lo.size() != 3 || hi.size() != 3)
-        throw ParameterError("parameters " + qualified(p, "hsv_min") + " and hsv_max must be [h, s, v] (h 0..180, s and v 0..255)");
+        throw robot_core::ParameterError("parameters " + p.qualified("hsv_min") +
+                                         " and hsv_max must be [h, s, v] (h 0..180, s and v 0..255)");
       k.lo = cv::Scalar(lo[0], lo[1], lo[2]);
       k.hi = cv::Scalar(hi[0], hi[1], hi[2]);
-      const std::string anchor = optionalString(p, "anchor", "center");
-      requireOneOf(p, "anchor", anchor, {"center", "bottom"});
+      const std::string anchor = p.optionalString("anchor", "center");
+      p.requireOneOf("anchor", anchor, {"center", "bottom"});
       k.bottom = anchor == "bottom";
-      k.z = requireDouble(p, "z");
-      requireInRange(p, "z", k.z, 0.0, 1.0);
-      k.min_area = optionalDouble(p, "min_area_px", 30.0);
-      requirePositive(p, "min_area_px", k.min_area);
+      k.z = p.requireDouble("z");
+      p.requireInRange("z", k.z, 0.0, 1.0);
+      k.min_area = p.optionalDouble("min_area_px", 30.0);
+      p.requirePositive("min_area_px", k.min_area);
       kinds_.push_back(k);
     }
-    image_ = addInput<sensor_msgs::Image>(ctx.nh, requireString(ctx.pnh, "image"), "image");
+    image_topic_ = params.requireString("image");
+  }
+
+  void init(DeviceContext& ctx) override {
+    image_ = addInput<sensor_msgs::Image>(ctx.nh, image_topic_, "image");
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
     elements_pub_ = ctx.pnh.advertise<GameElements>("elements", 1);
     debug_pub_ = ctx.pnh.advertise<sensor_msgs::Image>("debug_image", 1);
@@ -248,7 +252,7 @@ class VisionDevice : public Device {
   ros::Time last_stamp_;
   // Images sampled at earlier refreshes that tf could not place yet, oldest first (fresh ones only).
   std::deque<LatestValue<sensor_msgs::Image>::ConstPtr> candidates_;
-  std::string map_frame_, camera_frame_;
+  std::string map_frame_, camera_frame_, image_topic_;
   double hfov_ = 1.0, fx_ = 0, fy_ = 0, cx_ = -1, cy_ = -1, pixel_std_ = 2.0, max_input_age_ = 0.5;
   double table_length_ = 3.0, table_width_ = 2.1;
   std::atomic<unsigned long> bad_images_{0};  // read by diagnose() on the diagnostics thread

@@ -29,8 +29,6 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
-
 class Camera : public Board {
  public:
   ~Camera() override {
@@ -38,19 +36,23 @@ class Camera : public Board {
     if (grabber_.joinable()) grabber_.join();
   }
 
+  void configure(const robot_core::Params& p) override {
+    device_ = p.requireString("device");
+    width_ = p.optionalInt("width", 0);
+    p.requireInRange("width", width_, 0, 8192);
+    height_ = p.optionalInt("height", 0);
+    p.requireInRange("height", height_, 0, 8192);
+    fps_ = p.optionalDouble("fps", 0.0);
+    p.requireInRange("fps", fps_, 0.0, 240.0);
+    reopen_period_ = p.optionalDouble("reopen_period", 1.0);
+    p.requirePositive("reopen_period", reopen_period_);
+    frame_id_ = p.optionalString("frame_id", p.ns().substr(p.ns().rfind('/') + 1) + "_optical_frame");
+    check_window_ = p.optionalDouble("check_window", 2.0);  // the doctor's
+  }
+
   void init(BoardContext& ctx) override {
-    const std::string device = requireString(ctx.pnh, "device");
-    const int width = optionalInt(ctx.pnh, "width", 0);
-    requireInRange(ctx.pnh, "width", width, 0, 8192);
-    const int height = optionalInt(ctx.pnh, "height", 0);
-    requireInRange(ctx.pnh, "height", height, 0, 8192);
-    const double fps = optionalDouble(ctx.pnh, "fps", 0.0);
-    requireInRange(ctx.pnh, "fps", fps, 0.0, 240.0);
-    reopen_period_ = optionalDouble(ctx.pnh, "reopen_period", 1.0);
-    requirePositive(ctx.pnh, "reopen_period", reopen_period_);
     stale_after_ = std::max(1.0, 3.0 / ctx.rate);
-    frame_id_ = optionalString(ctx.pnh, "frame_id", ctx.name.substr(ctx.name.rfind('/') + 1) + "_optical_frame");
-    source_ = std::make_unique<transport::CameraSource>(device, width, height, fps);
+    source_ = std::make_unique<transport::CameraSource>(device_, width_, height_, fps_);
     image_pub_ = ctx.pnh.advertise<sensor_msgs::Image>("image", 2);
     state_pub_ = ctx.pnh.advertise<CameraState>("state", 1, true);
     running_ = true;
@@ -59,11 +61,11 @@ class Camera : public Board {
 
   // The doctor: the camera opens and delivers frames for ~check_window seconds (default 2):
   // their size and rate against ~width/~height/~fps.
-  void check(BoardContext& ctx, CheckReport& report) override {
-    const std::string device = requireString(ctx.pnh, "device");
-    const int width = optionalInt(ctx.pnh, "width", 0), height = optionalInt(ctx.pnh, "height", 0);
-    const double fps = optionalDouble(ctx.pnh, "fps", 0.0);
-    const double window = optionalDouble(ctx.pnh, "check_window", 2.0);
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
+    const std::string& device = device_;
+    const int width = width_, height = height_;
+    const double fps = fps_;
+    const double window = check_window_;
     transport::CameraSource source(device, width, height, fps);
     std::string error;
     if (!source.open(error)) {
@@ -198,6 +200,9 @@ class Camera : public Board {
     if (!err.empty()) error_ = err;
   }
 
+  std::string device_;  // the parameters configure() read
+  int width_ = 0, height_ = 0;
+  double fps_ = 0.0, check_window_ = 2.0;
   std::unique_ptr<transport::CameraSource> source_;  // grabber thread only (device() is const)
   double reopen_period_ = 1.0, stale_after_ = 1.0;
   std::string frame_id_;

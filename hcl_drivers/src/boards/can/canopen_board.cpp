@@ -6,51 +6,58 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 using transport::BusState;
 
-std::string CanopenBoard::busParam(const ros::NodeHandle& pnh) {
-  const std::string url = requireString(pnh, "bus");
+std::string CanopenBoard::busParam(const robot_core::Params& p) {
+  const std::string url = p.requireString("bus");
   try {
     const auto ep = transport::parseEndpoint(url);
     if (ep.scheme != "socketcan" && ep.scheme != "udp") throw std::invalid_argument("not a CAN bus");
   } catch (const std::invalid_argument&) {
-    throw ParameterError("parameter " + qualified(pnh, "bus") + " = '" + url +
+    throw ParameterError("parameter " + p.qualified("bus") + " = '" + url +
                          "': allowed values: socketcan://IFACE or udp://127.0.0.1:PORT");
   }
   return url;
 }
 
-int CanopenBoard::nodeIdParam(const ros::NodeHandle& pnh) {
-  const int id = requireInt(pnh, "node_id");
+int CanopenBoard::nodeIdParam(const robot_core::Params& p) {
+  const int id = p.requireInt("node_id");
   if (!canopen::validNodeId(id))
-    throw ParameterError("parameter " + qualified(pnh, "node_id") + " = " + std::to_string(id) +
+    throw ParameterError("parameter " + p.qualified("node_id") + " = " + std::to_string(id) +
                          ": must be a CANopen node id 1..127");
   return id;
 }
 
+void CanopenBoard::configure(const robot_core::Params& p) {
+  // The polling rate, for the defaults below: required and checked by the framework
+  // (BoardSettings) before configure(); the doctor polls nothing and takes 10 Hz when absent.
+  const double rate = p.optionalDouble("rate", 10.0);
+  p.requirePositive("rate", rate);
+  url_ = busParam(p);
+  node_id_ = nodeIdParam(p);
+  answer_timeout_ = p.optionalDouble("answer_timeout", std::min(0.02, 0.5 / rate));
+  p.requirePositive("answer_timeout", answer_timeout_);
+  sdo_timeout_ = p.optionalDouble("sdo_timeout", 0.05);
+  p.requirePositive("sdo_timeout", sdo_timeout_);
+  command_timeout_ = p.optionalDouble("command_timeout", 0.25);
+  p.requirePositive("command_timeout", command_timeout_);
+  stale_timeout_ = p.optionalDouble("stale_timeout", std::max(0.3, 3.0 / rate));
+  heartbeat_ms_ = p.optionalInt("heartbeat_ms", 100);
+  p.requireInRange("heartbeat_ms", heartbeat_ms_, 0, 10000);
+  heartbeat_timeout_ = p.optionalDouble("heartbeat_timeout", 3.0 * heartbeat_ms_ / 1000.0 + 1.0 / rate);
+  p.requirePositive("heartbeat_timeout", heartbeat_timeout_);
+  // The board's own parameters too, so a bad one stops the node before the bus is opened.
+  readParams(p);
+}
+
 void CanopenBoard::init(BoardContext& ctx) {
   name_ = ctx.name;
-  const std::string url = busParam(ctx.pnh);
-  node_id_ = nodeIdParam(ctx.pnh);
-  answer_timeout_ = optionalDouble(ctx.pnh, "answer_timeout", std::min(0.02, 0.5 / ctx.rate));
-  requirePositive(ctx.pnh, "answer_timeout", answer_timeout_);
-  sdo_timeout_ = optionalDouble(ctx.pnh, "sdo_timeout", 0.05);
-  requirePositive(ctx.pnh, "sdo_timeout", sdo_timeout_);
-  command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.25);
-  requirePositive(ctx.pnh, "command_timeout", command_timeout_);
-  stale_timeout_ = optionalDouble(ctx.pnh, "stale_timeout", std::max(0.3, 3.0 / ctx.rate));
-  heartbeat_ms_ = optionalInt(ctx.pnh, "heartbeat_ms", 100);
-  requireInRange(ctx.pnh, "heartbeat_ms", heartbeat_ms_, 0, 10000);
-  heartbeat_timeout_ = optionalDouble(ctx.pnh, "heartbeat_timeout", 3.0 * heartbeat_ms_ / 1000.0 + 1.0 / ctx.rate);
-  requirePositive(ctx.pnh, "heartbeat_timeout", heartbeat_timeout_);
-
-  // The board's own parameters first, so a bad one stops the node before the bus is opened.
   try {
-    bus_ = transport::openCanBus(url);
+    bus_ = transport::openCanBus(url_);
   } catch (const std::exception& e) {
-    throw std::runtime_error("cannot open CAN bus " + url + ": " + e.what());
+    throw std::runtime_error("cannot open CAN bus " + url_ + ": " + e.what());
   }
   // setup() registers handlers on node(): the node must exist; its extra filters come first.
   node_.reset();
@@ -65,10 +72,10 @@ void CanopenBoard::init(BoardContext& ctx) {
   last_ok_ = ros::Time::now();
 }
 
-uint32_t CanopenBoard::cobIdParam(const ros::NodeHandle& pnh, const std::string& name, uint32_t fallback) {
-  const int v = optionalInt(pnh, name, static_cast<int>(fallback));
+uint32_t CanopenBoard::cobIdParam(const robot_core::Params& p, const std::string& name, uint32_t fallback) {
+  const int v = p.optionalInt(name, static_cast<int>(fallback));
   if (v < 1 || v > 0x7FF)
-    throw ParameterError("parameter " + qualified(pnh, name) + " = " + std::to_string(v) +
+    throw ParameterError("parameter " + p.qualified(name) + " = " + std::to_string(v) +
                          ": must be an 11-bit COB-ID 0x001..0x7FF");
   return static_cast<uint32_t>(v);
 }
@@ -134,7 +141,7 @@ bool CanopenBoard::service() {
       if (need_configure_) {
         readDeviceName();
         configureHeartbeat();
-        configure();
+        configureNode();
         need_configure_ = false;
       }
       const double silence = heartbeatSilence();

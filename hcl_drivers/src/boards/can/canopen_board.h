@@ -1,6 +1,7 @@
 // What every CANopen board driver shares: the bus, the node, NMT start after boot-up, bus-off and
-// stale handling, refused commands, diagnostics. A board adds its PDOs and topics in
-// configure()/exchange(); see motor_board.cpp for the pattern.
+// stale handling, refused commands, diagnostics. A board reads its parameters in readParams(),
+// adds its PDOs and topics in setup(), its SDO configuration in configureNode() and its poll in
+// exchange(); see motor_board.cpp for the pattern.
 //
 // Common parameters (besides rate/loop/stale_timeout of board_nodelet.h):
 //   ~bus              socketcan://IFACE or udp://127.0.0.1:PORT (required); boards naming the
@@ -34,6 +35,9 @@ namespace hcl_drivers {
 
 class CanopenBoard : public Board {
  public:
+  // The common parameters above, then the board's own (readParams()), into members; nothing else.
+  void configure(const robot_core::Params& params) final;
+  // Opens the bus and the node, then setup(), with the values configure() read.
   void init(BoardContext& ctx) final;
   bool service() final;
   void halt() final;
@@ -45,13 +49,17 @@ class CanopenBoard : public Board {
 
  protected:
   using CanFrame = transport::CanFrame;
-  // Read parameters, register PDO handlers (node().onFrame), advertise and subscribe.
-  // Throw ParameterError on bad configuration.
+  // Read the board's own parameters into members (nodeId() is known, cobIdParam() helps) and
+  // throw ParameterError on a bad one. Nothing else: it runs with no master and no bus
+  // (Board::configure()).
+  virtual void readParams(const robot_core::Params& params) = 0;
+  // Register PDO handlers (node().onFrame), advertise and subscribe, with the members
+  // readParams() filled.
   virtual void setup(BoardContext& ctx) = 0;
   // COB-IDs outside this node's id range that the board must receive (before the node exists).
   virtual std::vector<uint32_t> extraCobIds() const { return {}; }
-  // SDO configuration, after start and after every boot-up (throws canopen::SdoError).
-  virtual void configure() {}
+  // SDO configuration of the node, after start and after every boot-up (throws canopen::SdoError).
+  virtual void configureNode() {}
   // One poll: send commands, request PDOs by RTR, wait for them (node().waitFor), publish.
   // Return false after fail("why") when the board did not answer.
   virtual bool exchange() = 0;
@@ -76,8 +84,8 @@ class CanopenBoard : public Board {
   // dispatches frames until `arrived()` (the handlers saw every answer) or ~answer_timeout.
   // False after fail(): "sending RTR: ..." or "<board> (node N) did not answer the RTR(s) within M ms".
   bool requestPdos(const std::vector<PdoRequest>& pdos, const std::function<bool()>& arrived, const std::string& board);
-  // ~<name> as a COB-ID (1..0x7FF), default `fallback`.
-  uint32_t cobIdParam(const ros::NodeHandle& pnh, const std::string& name, uint32_t fallback);
+  // ~<name> as a COB-ID (1..0x7FF), default `fallback` (for readParams()).
+  static uint32_t cobIdParam(const robot_core::Params& params, const std::string& name, uint32_t fallback);
   // True when the board answers; otherwise counts the refusal and logs `what` (throttled).
   bool acceptCommand(const char* what);
   // Whether a command stamped `stamp` (received at `received`) is still fresh.
@@ -87,8 +95,9 @@ class CanopenBoard : public Board {
 
  private:
   // ~bus and ~node_id, validated (ParameterError naming the parameter otherwise).
-  static std::string busParam(const ros::NodeHandle& pnh);
-  static int nodeIdParam(const ros::NodeHandle& pnh);
+  static std::string busParam(const robot_core::Params& params);
+  static int nodeIdParam(const robot_core::Params& params);
+  std::string url_;  // ~bus
   std::shared_ptr<transport::CanBus> bus_;
   std::unique_ptr<canopen::RemoteNode> node_;
   std::string name_;

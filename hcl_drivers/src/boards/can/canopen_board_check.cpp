@@ -7,8 +7,6 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
-
 namespace {
 
 std::string hex(uint32_t v, int digits) {
@@ -35,10 +33,10 @@ std::string text(const std::vector<uint8_t>& bytes) {
 
 }  // namespace
 
-void CanopenBoard::check(BoardContext& ctx, CheckReport& report) {
-  const std::string url = busParam(ctx.pnh);
-  const int id = nodeIdParam(ctx.pnh);
-  const double timeout = std::max(0.1, optionalDouble(ctx.pnh, "sdo_timeout", 0.05));
+void CanopenBoard::check(BoardContext& /*ctx*/, CheckReport& report) {
+  const std::string url = url_;  // as configure() read them
+  const int id = node_id_;
+  const double timeout = std::max(0.1, sdo_timeout_);
   report.channel = {"can", url, id, false};
   const std::string expected_node = "node " + std::to_string(id) + " on " + url;
   std::shared_ptr<transport::CanBus> bus;

@@ -28,20 +28,22 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
-
 class Epos : public CanopenBoard {
  protected:
-  void setup(BoardContext& ctx) override {
-    motor_ = requireString(ctx.pnh, "motor");
-    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
-    max_rpm_ = requireInt(ctx.pnh, "max_rpm");
-    requirePositive(ctx.pnh, "max_rpm", max_rpm_);
-    enable_requested_ = optionalBool(ctx.pnh, "enable_at_start", false);
+  void readParams(const robot_core::Params& p) override {
+    motor_ = p.requireString("motor");
+    encoder_ = p.optionalString("encoder", motor_);
+    max_rpm_ = p.requireInt("max_rpm");
+    p.requirePositive("max_rpm", max_rpm_);
+    enable_requested_ = p.optionalBool("enable_at_start", false);
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    command_cob_ = cobIdParam(ctx.pnh, "command_cob_id", canopen::kRpdo1 + n);
-    status_cob_ = cobIdParam(ctx.pnh, "status_cob_id", canopen::kTpdo1 + n);
-    feedback_cob_ = cobIdParam(ctx.pnh, "feedback_cob_id", canopen::kTpdo2 + n);
+    command_cob_ = cobIdParam(p, "command_cob_id", canopen::kRpdo1 + n);
+    status_cob_ = cobIdParam(p, "status_cob_id", canopen::kTpdo1 + n);
+    feedback_cob_ = cobIdParam(p, "feedback_cob_id", canopen::kTpdo2 + n);
+  }
+
+  void setup(BoardContext& ctx) override {
+    const uint32_t n = static_cast<uint32_t>(nodeId());
     if (canopen::nodeOf(feedback_cob_) != n || canopen::nodeOf(status_cob_) != n)
       ROS_INFO("%s: EPOS PDOs mapped outside the node's COB-IDs (status 0x%03X, feedback 0x%03X)",
                ctx.name.c_str(), status_cob_, feedback_cob_);
@@ -99,7 +101,7 @@ class Epos : public CanopenBoard {
         });
   }
 
-  void configure() override {
+  void configureNode() override {
     node().sdoWrite(epos::kModesOfOperation, 0, static_cast<uint8_t>(epos::kProfileVelocityMode), 1, sdoTimeout());
   }
 

@@ -21,17 +21,19 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class HmiBoard : public CanopenBoard {
  protected:
-  void setup(BoardContext& ctx) override {
-    if (!ctx.pnh.getParam("keys", key_names_))
-      key_names_ = {"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "A", "B", "C", "D", "*", "#"};
-    if (key_names_.size() > 16) throw ParameterError("parameter " + qualified(ctx.pnh, "keys") + ": at most 16 key names");
+  void readParams(const robot_core::Params& p) override {
+    key_names_ = p.optionalStringList("keys", {"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "A", "B", "C", "D", "*", "#"});
+    if (key_names_.size() > 16) throw ParameterError("parameter " + p.qualified("keys") + ": at most 16 key names");
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    lcd_cob_ = cobIdParam(ctx.pnh, "lcd_cob_id", canopen::kRpdo1 + n);
-    keys_cob_ = cobIdParam(ctx.pnh, "keys_cob_id", canopen::kTpdo1 + n);
+    lcd_cob_ = cobIdParam(p, "lcd_cob_id", canopen::kRpdo1 + n);
+    keys_cob_ = cobIdParam(p, "keys_cob_id", canopen::kTpdo1 + n);
+  }
+
+  void setup(BoardContext& ctx) override {
     for (auto& l : wanted_) l = hmi_board::lcdLine("");
     shown_ = {std::string(hmi_board::kColumns, '\x01'), std::string(hmi_board::kColumns, '\x01')};  // unknown
 
@@ -58,7 +60,7 @@ class HmiBoard : public CanopenBoard {
     });
   }
 
-  void configure() override {
+  void configureNode() override {
     std::lock_guard lk(mutex_);  // after a reset the LCD is blank: send everything
     for (auto& s : shown_) s.assign(hmi_board::kColumns, '\x01');
   }
@@ -80,7 +82,7 @@ class HmiBoard : public CanopenBoard {
     for (const auto& f : frames)
       if (!node().sendRaw(f)) {
         fail("sending LCD text: " + node().lastError());
-        configure();  // unknown what arrived: send it all again
+        configureNode();  // unknown what arrived: send it all again
         return false;
       }
     const bool answered = requestPdos({{keys_cob_, 4}},

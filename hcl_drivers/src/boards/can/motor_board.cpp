@@ -23,25 +23,27 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class MotorBoard : public CanopenBoard {
  protected:
-  void setup(BoardContext& ctx) override {
-    std::vector<std::string> motors;
-    if (!ctx.pnh.getParam("motors", motors) || motors.empty() || motors.size() > motor_board::kMotors)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "motors") + ": required, a list of 1..2 motor names");
+  void readParams(const robot_core::Params& p) override {
+    const std::vector<std::string> motors = p.optionalStringList("motors");
+    if (motors.empty() || motors.size() > motor_board::kMotors)
+      throw ParameterError("parameter " + p.qualified("motors") + ": required, a list of 1..2 motor names");
     motors_ = motors;
-    if (!ctx.pnh.getParam("encoders", encoders_)) encoders_ = motors_;
+    encoders_ = p.optionalStringList("encoders", motors_);
     if (encoders_.empty() || encoders_.size() > motor_board::kMotors)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "encoders") + ": a list of 1..2 encoder names");
+      throw ParameterError("parameter " + p.qualified("encoders") + ": a list of 1..2 encoder names");
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    command_cob_ = cobIdParam(ctx.pnh, "command_cob_id", canopen::kRpdo1 + n);
-    encoder_cob_ = cobIdParam(ctx.pnh, "encoder_cob_id", canopen::kTpdo1 + n);
-    status_cob_ = cobIdParam(ctx.pnh, "status_cob_id", canopen::kTpdo2 + n);
-    watchdog_ms_ = optionalInt(ctx.pnh, "watchdog_ms", 200);
-    requireInRange(ctx.pnh, "watchdog_ms", watchdog_ms_, 10, 1000);
+    command_cob_ = cobIdParam(p, "command_cob_id", canopen::kRpdo1 + n);
+    encoder_cob_ = cobIdParam(p, "encoder_cob_id", canopen::kTpdo1 + n);
+    status_cob_ = cobIdParam(p, "status_cob_id", canopen::kTpdo2 + n);
+    watchdog_ms_ = p.optionalInt("watchdog_ms", 200);
+    p.requireInRange("watchdog_ms", watchdog_ms_, 10, 1000);
+  }
 
+  void setup(BoardContext& ctx) override {
     node().onFrame(encoder_cob_, [this](const CanFrame& f) {
       const auto e = motor_board::decodeEncoders(f);
       if (!e) return false;
@@ -69,7 +71,7 @@ class MotorBoard : public CanopenBoard {
 
   std::vector<uint32_t> extraCobIds() const override { return {}; }
 
-  void configure() override {
+  void configureNode() override {
     node().sdoWrite(motor_board::kWatchdogIndex, 0, static_cast<uint32_t>(watchdog_ms_), 2, sdoTimeout());
     firmware_version_ = node().sdoRead(motor_board::kVersionIndex, 0, sdoTimeout());
   }

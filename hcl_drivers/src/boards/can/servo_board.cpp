@@ -24,25 +24,27 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class ServoBoard : public CanopenBoard {
  protected:
-  void setup(BoardContext& ctx) override {
-    ctx.pnh.getParam("servos", servos_);
-    ctx.pnh.getParam("rangers", rangers_);
-    ctx.pnh.getParam("switches", switch_names_);
+  void readParams(const robot_core::Params& p) override {
+    servos_ = p.optionalStringList("servos");
+    rangers_ = p.optionalStringList("rangers");
+    switch_names_ = p.optionalStringList("switches");
     if (servos_.size() > servo_board::kServos)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "servos") + ": at most 4 servo names");
+      throw ParameterError("parameter " + p.qualified("servos") + ": at most 4 servo names");
     if (rangers_.size() > servo_board::kAdcs)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "rangers") + ": at most 4 ranger names");
+      throw ParameterError("parameter " + p.qualified("rangers") + ": at most 4 ranger names");
     if (switch_names_.size() > 16)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "switches") + ": at most 16 switch names");
+      throw ParameterError("parameter " + p.qualified("switches") + ": at most 16 switch names");
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    servo_cob_ = cobIdParam(ctx.pnh, "servo_cob_id", canopen::kRpdo1 + n);
-    ranger_cob_ = cobIdParam(ctx.pnh, "ranger_cob_id", canopen::kTpdo1 + n);
-    switch_cob_ = cobIdParam(ctx.pnh, "switch_cob_id", canopen::kTpdo2 + n);
+    servo_cob_ = cobIdParam(p, "servo_cob_id", canopen::kRpdo1 + n);
+    ranger_cob_ = cobIdParam(p, "ranger_cob_id", canopen::kTpdo1 + n);
+    switch_cob_ = cobIdParam(p, "switch_cob_id", canopen::kTpdo2 + n);
+  }
 
+  void setup(BoardContext& ctx) override {
     node().onFrame(ranger_cob_, [this](const CanFrame& f) {
       const auto a = servo_board::decodeRangers(f);
       if (!a) return false;

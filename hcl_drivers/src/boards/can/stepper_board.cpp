@@ -23,24 +23,27 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class StepperBoard : public CanopenBoard {
  protected:
-  void setup(BoardContext& ctx) override {
-    if (!ctx.pnh.getParam("steppers", steppers_) || steppers_.empty() || steppers_.size() > stepper_board::kSteppers)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "steppers") + ": required, a list of 1..2 stepper names");
-    if (!ctx.pnh.getParam("end_switches", switch_names_)) {
-      for (const auto& s : steppers_) {
-        switch_names_.push_back(s + "_min");
-        switch_names_.push_back(s + "_max");
-      }
+  void readParams(const robot_core::Params& p) override {
+    steppers_ = p.optionalStringList("steppers");
+    if (steppers_.empty() || steppers_.size() > stepper_board::kSteppers)
+      throw ParameterError("parameter " + p.qualified("steppers") + ": required, a list of 1..2 stepper names");
+    std::vector<std::string> defaults;
+    for (const auto& s : steppers_) {
+      defaults.push_back(s + "_min");
+      defaults.push_back(s + "_max");
     }
+    switch_names_ = p.optionalStringList("end_switches", defaults);
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    target_cob_ = cobIdParam(ctx.pnh, "target_cob_id", canopen::kRpdo1 + n);
-    position_cob_ = cobIdParam(ctx.pnh, "position_cob_id", canopen::kTpdo1 + n);
-    switch_cob_ = cobIdParam(ctx.pnh, "switch_cob_id", canopen::kTpdo2 + n);
+    target_cob_ = cobIdParam(p, "target_cob_id", canopen::kRpdo1 + n);
+    position_cob_ = cobIdParam(p, "position_cob_id", canopen::kTpdo1 + n);
+    switch_cob_ = cobIdParam(p, "switch_cob_id", canopen::kTpdo2 + n);
+  }
 
+  void setup(BoardContext& ctx) override {
     node().onFrame(position_cob_, [this](const CanFrame& f) {
       const auto p = stepper_board::decodePositions(f);
       if (!p) return false;

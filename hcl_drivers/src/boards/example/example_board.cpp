@@ -22,34 +22,41 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class ExampleBoard : public Board {
  public:
-  void init(BoardContext& ctx) override {
-    const std::string url = requireString(ctx.pnh, "endpoint");
-    transport::Endpoint ep;
+  // Every parameter, into members, validated; nothing else (no socket, no topic): it also runs
+  // with no master and no board (check_config, the doctor).
+  void configure(const robot_core::Params& p) override {
+    url_ = p.requireString("endpoint");
     try {
-      ep = transport::parseEndpoint(url);
+      endpoint_ = transport::parseEndpoint(url_);
     } catch (const std::invalid_argument& e) {
-      throw ParameterError("parameter " + qualified(ctx.pnh, "endpoint") + ": " + e.what());
+      throw ParameterError("parameter " + p.qualified("endpoint") + ": " + e.what());
     }
-    if (ep.scheme != "udp") throw ParameterError("parameter " + qualified(ctx.pnh, "endpoint") + " = '" + url + "': the example board speaks udp://HOST:PORT only");
-    answer_timeout_ = optionalDouble(ctx.pnh, "answer_timeout", std::min(0.02, 0.5 / ctx.rate));
-    requirePositive(ctx.pnh, "answer_timeout", answer_timeout_);
-    command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.5);
-    requirePositive(ctx.pnh, "command_timeout", command_timeout_);
+    if (endpoint_.scheme != "udp") throw ParameterError("parameter " + p.qualified("endpoint") + " = '" + url_ + "': the example board speaks udp://HOST:PORT only");
+    // The polling rate, for the default below: required and checked by the framework
+    // (BoardSettings) before configure(); the doctor polls nothing and takes 10 Hz when absent.
+    const double rate = p.optionalDouble("rate", 10.0);
+    p.requirePositive("rate", rate);
+    answer_timeout_ = p.optionalDouble("answer_timeout", std::min(0.02, 0.5 / rate));
+    p.requirePositive("answer_timeout", answer_timeout_);
+    command_timeout_ = p.optionalDouble("command_timeout", 0.5);
+    p.requirePositive("command_timeout", command_timeout_);
+  }
 
-    socket_ = std::make_unique<transport::UdpSocket>(ep.host, ep.port);
+  // Opens the channel, advertises and subscribes, with what configure() read.
+  void init(BoardContext& ctx) override {
+    socket_ = std::make_unique<transport::UdpSocket>(endpoint_.host, endpoint_.port);
     state_pub_ = ctx.pnh.advertise<ExampleBoardState>("state", 1, true);
     lamp_sub_ = subscribeCommand<std_msgs::UInt8>(ctx, "lamp_pwm", [this](const std_msgs::UInt8::ConstPtr& m) { onLamp(m); });
   }
 
   // The doctor: one request with the lamp off (its safe state) must get a well-formed answer.
-  void check(BoardContext& ctx, CheckReport& report) override {
-    const std::string url = requireString(ctx.pnh, "endpoint");
-    const auto ep = transport::parseEndpoint(url);
-    transport::UdpSocket socket(ep.host, ep.port);
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
+    const std::string& url = url_;
+    transport::UdpSocket socket(endpoint_.host, endpoint_.port);
     if (!socket.send(example_protocol::encodeRequest(1, 0))) {
       report.fail("answer", "an answer from " + url, socket.lastError(), "is the board's network up (ping its address)?");
       return;
@@ -152,6 +159,8 @@ class ExampleBoard : public Board {
     state_pub_.publish(s);
   }
 
+  std::string url_;  // ~endpoint
+  transport::Endpoint endpoint_;
   std::unique_ptr<transport::UdpSocket> socket_;
   ros::Publisher state_pub_;
   ros::Subscriber lamp_sub_;

@@ -21,16 +21,18 @@ namespace hcl_drivers {
 
 class CMPS03 : public Board {
  public:
+  void configure(const robot_core::Params& p) override { i2c_ = I2cConfig::read(p, 0x08, 0x77); }
+
   void init(BoardContext& ctx) override {
-    dev_ = openI2cDevice(ctx.pnh, 0x08, 0x77);
+    dev_ = openI2cDevice(i2c_);
     bearing_pub_ = ctx.pnh.advertise<Bearing>("bearing", 1, true);
     state_pub_ = ctx.pnh.advertise<CMPS03State>("state", 1, true);
   }
 
-  void check(BoardContext& ctx, CheckReport& report) override {
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
     I2cDevice dev;
     std::vector<uint8_t> raw;
-    if (!checkI2cIdentity(ctx.pnh, 0x08, 0x77, cmps03::kRegRevision, cmps03::kBlockSize, dev, raw, report)) return;
+    if (!checkI2cIdentity(i2c_, cmps03::kRegRevision, cmps03::kBlockSize, dev, raw, report)) return;
     const auto r = cmps03::decodeBlock(raw);
     if (r)
       report.ok("identity", "CMPS03 revision and a bearing",
@@ -80,6 +82,7 @@ class CMPS03 : public Board {
   }
 
  private:
+  I2cConfig i2c_;  // the I2C parameters configure() read
   I2cDevice dev_;
   ros::Publisher bearing_pub_, state_pub_;
   robot_core::PriorityInheritanceMutex mutex_;

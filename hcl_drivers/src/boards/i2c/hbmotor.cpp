@@ -25,28 +25,30 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
-
 class HBMotor : public Board {
  public:
-  void init(BoardContext& ctx) override {
-    dev_ = openI2cDevice(ctx.pnh, 0x08, 0x77);
-    motor_ = optionalString(ctx.pnh, "motor", "motor");
-    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
-    command_timeout_ = optionalDouble(ctx.pnh, "command_timeout", 0.3);
-    requirePositive(ctx.pnh, "command_timeout", command_timeout_);
-    const double wd = optionalDouble(ctx.pnh, "firmware_watchdog", 0.25);
-    requireInRange(ctx.pnh, "firmware_watchdog", wd, 0.0, 2.55);
+  void configure(const robot_core::Params& p) override {
+    i2c_ = I2cConfig::read(p, 0x08, 0x77);
+    motor_ = p.optionalString("motor", "motor");
+    encoder_ = p.optionalString("encoder", motor_);
+    command_timeout_ = p.optionalDouble("command_timeout", 0.3);
+    p.requirePositive("command_timeout", command_timeout_);
+    const double wd = p.optionalDouble("firmware_watchdog", 0.25);
+    p.requireInRange("firmware_watchdog", wd, 0.0, 2.55);
     watchdog_ = hbmotor::encodeWatchdog(wd);
+  }
+
+  void init(BoardContext& ctx) override {
+    dev_ = openI2cDevice(i2c_);
     state_pub_ = ctx.pnh.advertise<HBMotorState>("state", 1, true);
     encoder_pub_ = ctx.pnh.advertise<EncoderCounter>("encoder/" + encoder_, 1, true);
     command_sub_ = subscribeCommand<MotorCommand>(ctx, "motor/" + motor_ + "/command", [this](const MotorCommand::ConstPtr& m) { onCommand(m); });
   }
 
-  void check(BoardContext& ctx, CheckReport& report) override {
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
     I2cDevice dev;
     std::vector<uint8_t> raw;
-    if (!checkI2cIdentity(ctx.pnh, 0x08, 0x77, hbmotor::kRegVersion, hbmotor::kBlockSize, dev, raw, report)) return;
+    if (!checkI2cIdentity(i2c_, hbmotor::kRegVersion, hbmotor::kBlockSize, dev, raw, report)) return;
     const auto b = hbmotor::decodeBlock(raw);
     if (b)
       report.ok("identity", "HBmotor register block",
@@ -174,6 +176,7 @@ class HBMotor : public Board {
     state_pub_.publish(s);
   }
 
+  I2cConfig i2c_;  // the I2C parameters configure() read
   I2cDevice dev_;
   std::string motor_, encoder_;
   double command_timeout_ = 0.3;

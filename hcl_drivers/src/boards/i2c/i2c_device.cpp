@@ -8,33 +8,40 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
-I2cDevice openI2cDevice(const ros::NodeHandle& pnh, int address_min, int address_max) {
-  I2cDevice d;
-  const std::string url = requireString(pnh, "bus");
-  const int address = requireInt(pnh, "address");
+I2cConfig I2cConfig::read(const robot_core::Params& p, int address_min, int address_max) {
+  I2cConfig c;
+  c.bus = p.requireString("bus");
+  c.bus_param = p.qualified("bus");
+  const int address = p.requireInt("address");
   if (address < address_min || address > address_max) {
     char range[64];
     std::snprintf(range, sizeof(range), "0x%02x..0x%02x", address_min, address_max);
-    throw ParameterError("parameter " + qualified(pnh, "address") + " = " + std::to_string(address) +
+    throw ParameterError("parameter " + p.qualified("address") + " = " + std::to_string(address) +
                          ": must be a 7-bit address in " + range);
   }
-  d.address = static_cast<uint8_t>(address);
-  const double timeout = optionalDouble(pnh, "bus_timeout", 0.02);
-  requireInRange(pnh, "bus_timeout", timeout, 0.001, 1.0);
-  const int retries = optionalInt(pnh, "bus_retries", 2);
-  requireInRange(pnh, "bus_retries", retries, 0, 10);
+  c.address = static_cast<uint8_t>(address);
+  c.timeout = p.optionalDouble("bus_timeout", 0.02);
+  p.requireInRange("bus_timeout", c.timeout, 0.001, 1.0);
+  c.retries = p.optionalInt("bus_retries", 2);
+  p.requireInRange("bus_retries", c.retries, 0, 10);
+  return c;
+}
+
+I2cDevice openI2cDevice(const I2cConfig& c) {
+  I2cDevice d;
+  d.address = c.address;
   try {
-    d.bus = transport::openI2cBus(url);
+    d.bus = transport::openI2cBus(c.bus);
   } catch (const std::invalid_argument& e) {
-    throw ParameterError("parameter " + qualified(pnh, "bus") + ": " + e.what());
+    throw ParameterError("parameter " + c.bus_param + ": " + e.what());
   } catch (const std::system_error& e) {
     // a bus that cannot be opened is not a configuration error: the framework retries it
-    throw std::runtime_error("I2C bus " + qualified(pnh, "bus") + " = '" + url + "': " + e.what());
+    throw std::runtime_error("I2C bus " + c.bus_param + " = '" + c.bus + "': " + e.what());
   }
-  d.bus->setTimeout(timeout);
-  d.bus->setRetries(retries);
+  d.bus->setTimeout(c.timeout);
+  d.bus->setRetries(c.retries);
   return d;
 }
 
@@ -48,13 +55,13 @@ void diagnoseI2c(const I2cDevice& dev, diagnostic_updater::DiagnosticStatusWrapp
   stat.add("bus retries", c.retries);
 }
 
-bool checkI2cIdentity(const ros::NodeHandle& pnh, int address_min, int address_max, uint8_t reg, std::size_t n,
-                      I2cDevice& dev, std::vector<uint8_t>& out, CheckReport& report) {
-  const std::string url = requireString(pnh, "bus");
+bool checkI2cIdentity(const I2cConfig& config, uint8_t reg, std::size_t n, I2cDevice& dev, std::vector<uint8_t>& out,
+                      CheckReport& report) {
+  const std::string& url = config.bus;
   char address[8];
-  std::snprintf(address, sizeof address, "0x%02x", static_cast<unsigned>(requireInt(pnh, "address")));
+  std::snprintf(address, sizeof address, "0x%02x", static_cast<unsigned>(config.address));
   try {
-    dev = openI2cDevice(pnh, address_min, address_max);
+    dev = openI2cDevice(config);
   } catch (const std::runtime_error& e) {  // ParameterError too: the doctor shows it as a row
     report.fail("bus", url, e.what(), "is the I2C adapter plugged in (ls /dev/i2c-*) and the path in the config right?");
     return false;

@@ -27,25 +27,28 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class MCP23016 : public Board {
  public:
-  void init(BoardContext& ctx) override {
-    dev_ = openI2cDevice(ctx.pnh, mcp23016::kAddressMin, mcp23016::kAddressMax);
-    const int dir = optionalInt(ctx.pnh, "direction", 0xFFFF);
-    requireInRange(ctx.pnh, "direction", dir, 0, 0xFFFF);
-    const int pol = optionalInt(ctx.pnh, "input_polarity", 0);
-    requireInRange(ctx.pnh, "input_polarity", pol, 0, 0xFFFF);
-    const int out = optionalInt(ctx.pnh, "outputs_initial", 0);
-    requireInRange(ctx.pnh, "outputs_initial", out, 0, 0xFFFF);
+  void configure(const robot_core::Params& p) override {
+    i2c_ = I2cConfig::read(p, mcp23016::kAddressMin, mcp23016::kAddressMax);
+    const int dir = p.optionalInt("direction", 0xFFFF);
+    p.requireInRange("direction", dir, 0, 0xFFFF);
+    const int pol = p.optionalInt("input_polarity", 0);
+    p.requireInRange("input_polarity", pol, 0, 0xFFFF);
+    const int out = p.optionalInt("outputs_initial", 0);
+    p.requireInRange("outputs_initial", out, 0, 0xFFFF);
     direction_ = static_cast<uint16_t>(dir);
     polarity_ = static_cast<uint16_t>(pol);
     initial_ = olat_ = static_cast<uint16_t>(out);
-    if (ctx.pnh.hasParam("input_names") && !ctx.pnh.getParam("input_names", names_))
-      throw ParameterError("parameter " + qualified(ctx.pnh, "input_names") + ": must be a list of strings");
+    names_ = p.optionalStringList("input_names");  // "must be a list of strings" otherwise
     if (names_.size() > 16)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "input_names") + ": at most 16 names (one per pin)");
+      throw ParameterError("parameter " + p.qualified("input_names") + ": at most 16 names (one per pin)");
+  }
+
+  void init(BoardContext& ctx) override {
+    dev_ = openI2cDevice(i2c_);
     inputs_pub_ = ctx.pnh.advertise<DigitalInputs>("inputs", 1, true);
     state_pub_ = ctx.pnh.advertise<MCP23016State>("state", 1, true);
     outputs_sub_ = subscribeCommand<std_msgs::UInt16>(ctx, "outputs", [this](const std_msgs::UInt16::ConstPtr& m) { onOutputs(m); });
@@ -53,12 +56,11 @@ class MCP23016 : public Board {
 
   // Identity by read-back: the configured input polarity (IPOL, harmless: the driver writes
   // the same at start) must read back as written.
-  void check(BoardContext& ctx, CheckReport& report) override {
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
     I2cDevice dev;
     std::vector<uint8_t> raw;
-    if (!checkI2cIdentity(ctx.pnh, mcp23016::kAddressMin, mcp23016::kAddressMax, mcp23016::kRegIpol0, 2, dev, raw, report))
-      return;
-    const int polarity = optionalInt(ctx.pnh, "input_polarity", 0);
+    if (!checkI2cIdentity(i2c_, mcp23016::kRegIpol0, 2, dev, raw, report)) return;
+    const int polarity = polarity_;
     std::string err;
     std::vector<uint8_t> back;
     char expected[32], found[48];
@@ -184,6 +186,7 @@ class MCP23016 : public Board {
     state_pub_.publish(s);
   }
 
+  I2cConfig i2c_;  // the I2C parameters configure() read
   I2cDevice dev_;
   uint16_t direction_ = 0xFFFF, polarity_ = 0, initial_ = 0;
   std::vector<std::string> names_;

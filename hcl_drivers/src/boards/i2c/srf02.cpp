@@ -30,28 +30,28 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
-
 class SRF02 : public Board {
  public:
+  void configure(const robot_core::Params& p) override {
+    i2c_ = I2cConfig::read(p, srf02::kAddressMin, srf02::kAddressMax);
+    const std::string base = p.ns().substr(p.ns().rfind('/') + 1);
+    frame_id_ = p.optionalString("frame_id", base + "_link");
+    conversion_time_ = p.optionalDouble("conversion_time", srf02::kConversionTime);
+    p.requireInRange("conversion_time", conversion_time_, srf02::kConversionTime, 1.0);
+    fov_ = p.optionalDouble("field_of_view", srf02::kFieldOfView);
+    p.requireInRange("field_of_view", fov_, 0.01, 3.14);
+  }
+
   void init(BoardContext& ctx) override {
-    dev_ = openI2cDevice(ctx.pnh, srf02::kAddressMin, srf02::kAddressMax);
-    std::string base = ctx.name.substr(ctx.name.rfind('/') + 1);
-    frame_id_ = optionalString(ctx.pnh, "frame_id", base + "_link");
-    conversion_time_ = optionalDouble(ctx.pnh, "conversion_time", srf02::kConversionTime);
-    requireInRange(ctx.pnh, "conversion_time", conversion_time_, srf02::kConversionTime, 1.0);
-    fov_ = optionalDouble(ctx.pnh, "field_of_view", srf02::kFieldOfView);
-    requireInRange(ctx.pnh, "field_of_view", fov_, 0.01, 3.14);
+    dev_ = openI2cDevice(i2c_);
     range_pub_ = ctx.pnh.advertise<sensor_msgs::Range>("range", 1, true);
     state_pub_ = ctx.pnh.advertise<SRF02State>("state", 1, true);
   }
 
-  void check(BoardContext& ctx, CheckReport& report) override {
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
     I2cDevice dev;
     std::vector<uint8_t> raw;
-    if (!checkI2cIdentity(ctx.pnh, srf02::kAddressMin, srf02::kAddressMax, srf02::kRegRevision, srf02::kResultSize, dev,
-                          raw, report))
-      return;
+    if (!checkI2cIdentity(i2c_, srf02::kRegRevision, srf02::kResultSize, dev, raw, report)) return;
     if (raw[0] == srf02::kBusy)
       report.warn("identity", "SRF02 software revision", "0xFF: ranging in progress",
                   "another master is ranging with it (is the product running?); run the doctor again");
@@ -131,6 +131,7 @@ class SRF02 : public Board {
     state_pub_.publish(s);
   }
 
+  I2cConfig i2c_;
   I2cDevice dev_;
   std::string frame_id_;
   double conversion_time_ = srf02::kConversionTime;

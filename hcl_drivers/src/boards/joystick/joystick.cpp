@@ -30,19 +30,30 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
-
 class Joystick : public Board {
  public:
+  void configure(const robot_core::Params& p) override {
+    device_path_ = p.requireString("device");
+    deadzone_ = p.optionalDouble("deadzone", 0.05);
+    p.requireInRange("deadzone", deadzone_, 0.0, 0.9);
+    // The polling rate, for ~publish_rate: required and checked by the framework (BoardSettings)
+    // before configure(); the doctor polls nothing and takes 10 Hz when absent.
+    const double rate = p.optionalDouble("rate", 10.0);
+    p.requirePositive("rate", rate);
+    publish_rate_ = p.optionalDouble("publish_rate", std::min(10.0, rate));
+    p.requireInRange("publish_rate", publish_rate_, 0.1, rate);
+    reopen_period_ = p.optionalDouble("reopen_period", 0.5);
+    p.requirePositive("reopen_period", reopen_period_);
+    frame_id_ = p.optionalString("frame_id", "");
+    // the doctor's (check())
+    want_axes_ = p.optionalInt("axes", 0);
+    want_buttons_ = p.optionalInt("buttons", 0);
+    check_window_ = p.optionalDouble("check_window", 1.0);
+    required_ = p.optionalBool("required", true);
+  }
+
   void init(BoardContext& ctx) override {
-    device_ = std::make_unique<transport::JoystickDevice>(requireString(ctx.pnh, "device"));
-    deadzone_ = optionalDouble(ctx.pnh, "deadzone", 0.05);
-    requireInRange(ctx.pnh, "deadzone", deadzone_, 0.0, 0.9);
-    publish_rate_ = optionalDouble(ctx.pnh, "publish_rate", std::min(10.0, ctx.rate));
-    requireInRange(ctx.pnh, "publish_rate", publish_rate_, 0.1, ctx.rate);
-    reopen_period_ = optionalDouble(ctx.pnh, "reopen_period", 0.5);
-    requirePositive(ctx.pnh, "reopen_period", reopen_period_);
-    frame_id_ = optionalString(ctx.pnh, "frame_id", "");
+    device_ = std::make_unique<transport::JoystickDevice>(device_path_);
     joy_pub_ = ctx.pnh.advertise<sensor_msgs::Joy>("joy", 10);
     state_pub_ = ctx.pnh.advertise<JoystickState>("state", 1, true);
   }
@@ -50,13 +61,13 @@ class Joystick : public Board {
   // The doctor: the device opens and reports its axes and buttons (JSIOCGAXES/JSIOCGBUTTONS,
   // or the init events a FIFO delivers within ~check_window, default 1 s); compared with the
   // optional ~axes / ~buttons the robot's config expects.
-  void check(BoardContext& ctx, CheckReport& report) override {
-    transport::JoystickDevice device(requireString(ctx.pnh, "device"));
-    const int want_axes = optionalInt(ctx.pnh, "axes", 0);
-    const int want_buttons = optionalInt(ctx.pnh, "buttons", 0);
-    const double window = optionalDouble(ctx.pnh, "check_window", 1.0);
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
+    transport::JoystickDevice device(device_path_);
+    const int want_axes = want_axes_;
+    const int want_buttons = want_buttons_;
+    const double window = check_window_;
     std::string error;
-    const bool required = optionalBool(ctx.pnh, "required", true);
+    const bool required = required_;
     if (!device.open(error)) {
       const std::string hint = "is it plugged in (ls -l " + device.path() + ")? make install-robot gives it this name";
       if (required)
@@ -180,6 +191,10 @@ class Joystick : public Board {
     state_pub_.publish(s);
   }
 
+  std::string device_path_;  // ~device
+  int want_axes_ = 0, want_buttons_ = 0;
+  double check_window_ = 1.0;
+  bool required_ = true;
   std::unique_ptr<transport::JoystickDevice> device_;  // loop thread only
   js::Decoder decoder_;
   js::State state_;

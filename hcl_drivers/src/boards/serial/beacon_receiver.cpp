@@ -36,7 +36,7 @@
 
 namespace hcl_drivers {
 
-using namespace robot_core::parameter_reader;  // as every board reads its parameters
+using robot_core::ParameterError;
 
 class BeaconReceiver : public Board {
  public:
@@ -45,21 +45,25 @@ class BeaconReceiver : public Board {
     if (reader_.joinable()) reader_.join();
   }
 
-  void init(BoardContext& ctx) override {
-    const std::string port = requireString(ctx.pnh, "port");
-    const int baud = optionalInt(ctx.pnh, "baud", 9600);
-    if (transport::SerialPort::baudConstant(baud) == 0)
-      throw ParameterError("parameter " + qualified(ctx.pnh, "baud") + " = " + std::to_string(baud) +
+  void configure(const robot_core::Params& p) override {
+    port_path_ = p.requireString("port");
+    baud_ = p.optionalInt("baud", 9600);
+    if (transport::SerialPort::baudConstant(baud_) == 0)
+      throw ParameterError("parameter " + p.qualified("baud") + " = " + std::to_string(baud_) +
                            ": allowed values: " + transport::SerialPort::allowedBauds());
-    const int beacons = optionalInt(ctx.pnh, "beacons", 3);
-    requireInRange(ctx.pnh, "beacons", beacons, 1, 10);
-    silence_timeout_ = optionalDouble(ctx.pnh, "silence_timeout", 1.0);
-    requirePositive(ctx.pnh, "silence_timeout", silence_timeout_);
-    beacon_timeout_ = optionalDouble(ctx.pnh, "beacon_timeout", 0.6);
-    requirePositive(ctx.pnh, "beacon_timeout", beacon_timeout_);
-    state_.delta_us.assign(beacons, 0);
-    state_.stamps.assign(beacons, ros::Time());
-    port_ = std::make_unique<transport::SerialPort>(port, baud);
+    beacons_ = p.optionalInt("beacons", 3);
+    p.requireInRange("beacons", beacons_, 1, 10);
+    silence_timeout_ = p.optionalDouble("silence_timeout", 1.0);
+    p.requirePositive("silence_timeout", silence_timeout_);
+    beacon_timeout_ = p.optionalDouble("beacon_timeout", 0.6);
+    p.requirePositive("beacon_timeout", beacon_timeout_);
+    check_window_ = p.optionalDouble("check_window", 2.0);  // the doctor's
+  }
+
+  void init(BoardContext& ctx) override {
+    state_.delta_us.assign(beacons_, 0);
+    state_.stamps.assign(beacons_, ros::Time());
+    port_ = std::make_unique<transport::SerialPort>(port_path_, baud_);
     delta_pub_ = ctx.pnh.advertise<BeaconDelta>("delta", 100);
     state_pub_ = ctx.pnh.advertise<BeaconReceiverState>("state", 1, true);
     running_ = true;
@@ -68,11 +72,11 @@ class BeaconReceiver : public Board {
 
   // The doctor: open the port at the configured speed, listen ~check_window seconds (default 2),
   // parse what comes: frames, their rate, the beacons heard and the parse errors.
-  void check(BoardContext& ctx, CheckReport& report) override {
-    const std::string port = requireString(ctx.pnh, "port");
-    const int baud = optionalInt(ctx.pnh, "baud", 9600);
-    const int beacons = optionalInt(ctx.pnh, "beacons", 3);
-    const double window = optionalDouble(ctx.pnh, "check_window", 2.0);
+  void check(BoardContext& /*ctx*/, CheckReport& report) override {
+    const std::string& port = port_path_;
+    const int baud = baud_;
+    const int beacons = beacons_;
+    const double window = check_window_;
     transport::SerialPort serial(port, baud);
     std::string error;
     const std::string expected_port = port + " at " + std::to_string(baud) + " baud";
@@ -250,6 +254,9 @@ class BeaconReceiver : public Board {
     state_pub_.publish(state_);
   }
 
+  std::string port_path_;  // the parameters configure() read
+  int baud_ = 9600, beacons_ = 3;
+  double check_window_ = 2.0;
   std::unique_ptr<transport::SerialPort> port_;  // used by the reader thread only
   double silence_timeout_ = 1.0;
   double beacon_timeout_ = 0.6;

@@ -6,8 +6,7 @@
 // protocol documentation, never by calling the driver's encoder: a shared bug would hide.
 #pragma once
 
-#include <robot_core/parameter_blocks.h>
-#include <robot_core/parameters.h>
+#include <robot_core/params.h>
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -31,7 +30,8 @@ inline double firmwareWallSlice(double left, double slice = 0.005) {
 
 struct FirmwareContext {
   ros::NodeHandle nh;   // global namespace: publish truth under /sim/...
-  ros::NodeHandle pnh;  // the emulator's own parameters
+  ros::NodeHandle pnh;  // the emulator's own namespace (a world-less emulator's live overrides)
+  robot_core::Params params;  // its parameters, read once at start
   std::string name;     // e.g. "ExampleBoard": the board type name of its driver
   World* world = nullptr;
 };
@@ -40,8 +40,8 @@ class Firmware {
  public:
   virtual ~Firmware() = default;
 
-  // Open the channel and start answering. Throw std::runtime_error (a ParameterError is one) on
-  // bad parameters.
+  // Read ctx.params, open the channel and start answering. Throw std::runtime_error (a
+  // ParameterError is one) on bad parameters.
   virtual void start(FirmwareContext& ctx) = 0;
   // Stop answering and close the channel.
   virtual void stop() = 0;

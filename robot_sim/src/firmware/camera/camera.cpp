@@ -30,31 +30,29 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class CameraFirmware : public Firmware {
  public:
   ~CameraFirmware() override { stop(); }
 
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    int port = 0;
-    if (!ctx.pnh.getParam("port", port) || port <= 0 || port > 65535)
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("port") + " must be a TCP port 1..65535");
-    fps_ = optionalDouble(ctx.pnh, "fps", 10.0);
-    if (!(fps_ > 0 && fps_ <= 60)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("fps") + " must be in (0, 60]");
-    model_.mount = optionalString(ctx.pnh, "mount", "top");
+    const int port = ctx.params.optionalInt("port", 0);
+    if (port <= 0 || port > 65535)
+      throw std::runtime_error("parameter " + ctx.params.qualified("port") + " must be a TCP port 1..65535");
+    fps_ = ctx.params.optionalDouble("fps", 10.0);
+    if (!(fps_ > 0 && fps_ <= 60)) throw std::runtime_error("parameter " + ctx.params.qualified("fps") + " must be in (0, 60]");
+    model_.mount = ctx.params.optionalString("mount", "top");
     if (model_.mount != "top" && model_.mount != "front")
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("mount") + " = '" + model_.mount + "': allowed values: top, front");
-    model_.width = optionalInt(ctx.pnh, "width", 320);
-    model_.height = optionalInt(ctx.pnh, "height", 240);
-    model_.x = optionalDouble(ctx.pnh, "x", model_.x);
-    model_.z = optionalDouble(ctx.pnh, "z", model_.z);
-    model_.pitch = optionalDouble(ctx.pnh, "pitch", model_.pitch);
-    model_.hfov = optionalDouble(ctx.pnh, "hfov", model_.hfov);
-    quality_ = optionalInt(ctx.pnh, "quality", 85);
+      throw std::runtime_error("parameter " + ctx.params.qualified("mount") + " = '" + model_.mount + "': allowed values: top, front");
+    model_.width = ctx.params.optionalInt("width", 320);
+    model_.height = ctx.params.optionalInt("height", 240);
+    model_.x = ctx.params.optionalDouble("x", model_.x);
+    model_.z = ctx.params.optionalDouble("z", model_.z);
+    model_.pitch = ctx.params.optionalDouble("pitch", model_.pitch);
+    model_.hfov = ctx.params.optionalDouble("hfov", model_.hfov);
+    quality_ = ctx.params.optionalInt("quality", 85);
     if (model_.width < 16 || model_.height < 16 || model_.width > 4096 || model_.height > 4096)
-      throw std::runtime_error("parameters " + ctx.pnh.resolveName("width") + "/height must be 16..4096");
+      throw std::runtime_error("parameters " + ctx.params.qualified("width") + "/height must be 16..4096");
 
     listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     int one = 1;

@@ -8,8 +8,6 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 using hcl_drivers::transport::CanFilter;
 
 namespace {
@@ -34,20 +32,20 @@ double CanopenFirmware::now() const { return firmwareNow(); }
 
 void CanopenFirmware::start(FirmwareContext& ctx) {
   name_ = ctx.name;
-  std::string url;
-  if (!ctx.pnh.getParam("bus", url))
-    throw std::runtime_error("parameter " + ctx.pnh.resolveName("bus") + " missing: socketcan://IFACE or udp://127.0.0.1:PORT");
-  int node = 0;
-  if (!ctx.pnh.getParam("node_id", node) || node < 1 || node > 127)
-    throw std::runtime_error("parameter " + ctx.pnh.resolveName("node_id") + ": required, 1..127");
+  const std::string url = ctx.params.optionalString("bus", "");
+  if (url.empty())
+    throw std::runtime_error("parameter " + ctx.params.qualified("bus") + " missing: socketcan://IFACE or udp://127.0.0.1:PORT");
+  const int node = ctx.params.optionalInt("node_id", 0);
+  if (node < 1 || node > 127)
+    throw std::runtime_error("parameter " + ctx.params.qualified("node_id") + ": required, 1..127");
   node_id_ = static_cast<uint8_t>(node);
   world_ = ctx.world;
   if (!world_) {
     double tps = 4000.0, range = 0.35;
     std::vector<std::string> closed;
-    tps = optionalDouble(ctx.pnh, "bench_ticks_per_s", tps);
-    range = optionalDouble(ctx.pnh, "bench_range", range);
-    closed = optionalStringList(ctx.pnh, "bench_closed", closed);
+    tps = ctx.params.optionalDouble("bench_ticks_per_s", tps);
+    range = ctx.params.optionalDouble("bench_range", range);
+    closed = ctx.params.optionalStringList("bench_closed", closed);
     bench_world_ = std::make_unique<BenchWorld>(tps, range, closed);
     world_ = bench_world_.get();
   }

@@ -16,21 +16,19 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class EposFirmware : public CanopenFirmware {
  protected:
   enum State : uint16_t { kSwitchOnDisabled = 0x0240, kReadyToSwitchOn = 0x0221, kSwitchedOn = 0x0233,
                           kOperationEnabled = 0x0237, kFault = 0x0208 };
 
   void setupBoard(FirmwareContext& ctx) override {
-    motor_ = requireString(ctx.pnh, "motor");
-    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
-    nominal_rpm_ = optionalDouble(ctx.pnh, "nominal_rpm", 8000.0);
-    requirePositive(ctx.pnh, "nominal_rpm", nominal_rpm_);
-    counts_per_rev_ = optionalDouble(ctx.pnh, "counts_per_rev", 2000.0);
-    requirePositive(ctx.pnh, "counts_per_rev", counts_per_rev_);
-    const int fb = optionalInt(ctx.pnh, "feedback_cob_id", 0x280 + nodeId());
+    motor_ = ctx.params.requireString("motor");
+    encoder_ = ctx.params.optionalString("encoder", motor_);
+    nominal_rpm_ = ctx.params.optionalDouble("nominal_rpm", 8000.0);
+    ctx.params.requirePositive("nominal_rpm", nominal_rpm_);
+    counts_per_rev_ = ctx.params.optionalDouble("counts_per_rev", 2000.0);
+    ctx.params.requirePositive("counts_per_rev", counts_per_rev_);
+    const int fb = ctx.params.optionalInt("feedback_cob_id", 0x280 + nodeId());
     feedback_cob_ = static_cast<uint32_t>(fb);
     if ((feedback_cob_ & 0x7F) != nodeId()) addExtraCobId(feedback_cob_);
     addObject(0x6060, 0, {1, [this] { return static_cast<uint32_t>(static_cast<uint8_t>(mode_)); }, [this](uint32_t v) {

@@ -11,7 +11,8 @@ namespace robot_sim {
 class CanHmiBoardFirmware : public CanopenFirmware {
  protected:
   void setupBoard(FirmwareContext& ctx) override {
-    if (!ctx.pnh.getParam("keys", keys_))
+    keys_ = ctx.params.optionalStringList("keys");
+    if (!ctx.params.has("keys"))
       for (int i = 0; i < 16; ++i) keys_.push_back("hmi_key_" + std::to_string(i));
     keys_.resize(16);
   }

@@ -14,9 +14,10 @@ namespace robot_sim {
 class CanMotorBoardFirmware : public CanopenFirmware {
  protected:
   void setupBoard(FirmwareContext& ctx) override {
-    if (!ctx.pnh.getParam("motors", motors_) || motors_.empty() || motors_.size() > 2)
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("motors") + ": 1..2 world motor names");
-    if (!ctx.pnh.getParam("encoders", encoders_)) encoders_ = motors_;
+    motors_ = ctx.params.optionalStringList("motors");
+    if (motors_.empty() || motors_.size() > 2)
+      throw std::runtime_error("parameter " + ctx.params.qualified("motors") + ": 1..2 world motor names");
+    encoders_ = ctx.params.optionalStringList("encoders", motors_);
     motors_.resize(2);
     encoders_.resize(2);
     addObject(0x2001, 0, {2, [this] { return static_cast<uint32_t>(watchdog_ms_); }, [this](uint32_t v) {

@@ -17,11 +17,11 @@ namespace robot_sim {
 class CanServoBoardFirmware : public CanopenFirmware {
  protected:
   void setupBoard(FirmwareContext& ctx) override {
-    ctx.pnh.getParam("servos", servos_);
-    ctx.pnh.getParam("rangers", rangers_);
-    ctx.pnh.getParam("switches", switches_);
+    servos_ = ctx.params.optionalStringList("servos");
+    rangers_ = ctx.params.optionalStringList("rangers");
+    switches_ = ctx.params.optionalStringList("switches");
     if (servos_.size() > 4 || rangers_.size() > 4 || switches_.size() > 16)
-      throw std::runtime_error("parameters " + ctx.pnh.resolveName("servos") + "/rangers/switches: at most 4/4/16 names");
+      throw std::runtime_error("parameters " + ctx.params.qualified("servos") + "/rangers/switches: at most 4/4/16 names");
     servos_.resize(4);
     rangers_.resize(4);
   }

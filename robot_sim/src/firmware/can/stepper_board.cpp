@@ -12,9 +12,11 @@ namespace robot_sim {
 class CanStepperBoardFirmware : public CanopenFirmware {
  protected:
   void setupBoard(FirmwareContext& ctx) override {
-    if (!ctx.pnh.getParam("steppers", steppers_) || steppers_.empty() || steppers_.size() > 2)
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("steppers") + ": 1..2 world stepper names");
-    if (!ctx.pnh.getParam("end_switches", switches_))
+    steppers_ = ctx.params.optionalStringList("steppers");
+    if (steppers_.empty() || steppers_.size() > 2)
+      throw std::runtime_error("parameter " + ctx.params.qualified("steppers") + ": 1..2 world stepper names");
+    switches_ = ctx.params.optionalStringList("end_switches");
+    if (!ctx.params.has("end_switches"))
       for (const auto& s : steppers_) {
         switches_.push_back(s + "_min");
         switches_.push_back(s + "_max");

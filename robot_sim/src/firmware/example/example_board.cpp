@@ -24,23 +24,20 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class ExampleBoardFirmware : public Firmware {
  public:
   ~ExampleBoardFirmware() override { stop(); }
 
   void start(FirmwareContext& ctx) override {
-    std::string url;
-    if (!ctx.pnh.getParam("endpoint", url) || url.rfind("udp://", 0) != 0)
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("endpoint") + " must be udp://HOST:PORT");
+    const std::string url = ctx.params.optionalString("endpoint", "");
+    if (url.rfind("udp://", 0) != 0)
+      throw std::runtime_error("parameter " + ctx.params.qualified("endpoint") + " must be udp://HOST:PORT");
     const std::string hostport = url.substr(6);
     const auto colon = hostport.rfind(':');
     if (colon == std::string::npos) throw std::runtime_error("parameter endpoint '" + url + "' has no port");
     const int port = std::atoi(hostport.substr(colon + 1).c_str());
-    dial_period_ = optionalDouble(ctx.pnh, "dial_period", 8.0);
-    requirePositive(ctx.pnh, "dial_period", dial_period_);
-    if (!(dial_period_ > 0.0)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("dial_period") + " must be > 0");
+    dial_period_ = ctx.params.optionalDouble("dial_period", 8.0);
+    ctx.params.requirePositive("dial_period", dial_period_);
 
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     int one = 1;

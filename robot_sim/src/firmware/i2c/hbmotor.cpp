@@ -21,22 +21,20 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class HBMotorFirmware : public RegisterChip {
  public:
   ~HBMotorFirmware() override { stop(); }
 
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    motor_ = optionalString(ctx.pnh, "motor", "");
-    encoder_ = optionalString(ctx.pnh, "encoder", motor_);
-    ticks_per_second_ = optionalDouble(ctx.pnh, "ticks_per_second", 2000.0);
-    requirePositive(ctx.pnh, "ticks_per_second", ticks_per_second_);
+    motor_ = ctx.params.optionalString("motor", "");
+    encoder_ = ctx.params.optionalString("encoder", motor_);
+    ticks_per_second_ = ctx.params.optionalDouble("ticks_per_second", 2000.0);
+    ctx.params.requirePositive("ticks_per_second", ticks_per_second_);
     if (world_ && (motor_.empty() || !world_->has("motor", motor_)))
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("motor") + " = '" + motor_ + "': no such motor in the world");
+      throw std::runtime_error("parameter " + ctx.params.qualified("motor") + " = '" + motor_ + "': no such motor in the world");
     if (world_ && !encoder_.empty() && !world_->has("encoder", encoder_))
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("encoder") + " = '" + encoder_ + "': no such encoder in the world");
+      throw std::runtime_error("parameter " + ctx.params.qualified("encoder") + " = '" + encoder_ + "': no such encoder in the world");
     powerOn();
     truth_pub_ = ctx.nh.advertise<std_msgs::Int32>("/sim/" + ctx.name + "/duty", 10);
     attachBus(ctx, 0x08, 0x77);

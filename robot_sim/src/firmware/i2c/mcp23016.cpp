@@ -23,9 +23,8 @@ class MCP23016Firmware : public RegisterChip {
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
     pnh_ = ctx.pnh;
-    if (ctx.pnh.hasParam("pins") && !ctx.pnh.getParam("pins", pins_))
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("pins") + " must be a list of switch names");
-    if (pins_.size() > 16) throw std::runtime_error("parameter " + ctx.pnh.resolveName("pins") + ": at most 16 pins");
+    pins_ = ctx.params.optionalStringList("pins");
+    if (pins_.size() > 16) throw std::runtime_error("parameter " + ctx.params.qualified("pins") + ": at most 16 pins");
     powerOn();
     truth_pub_ = ctx.nh.advertise<std_msgs::UInt16>("/sim/" + ctx.name + "/outputs", 10, true);
     truth_timer_ = ctx.nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {

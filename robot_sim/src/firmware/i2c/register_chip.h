@@ -57,14 +57,14 @@ class RegisterChip : public Firmware, public I2cSlave {
 
   // Reads ~bus and ~address (within lo..hi) and attaches to the bus. Throws std::runtime_error.
   void attachBus(FirmwareContext& ctx, int lo, int hi) {
-    std::string url;
-    if (!ctx.pnh.getParam("bus", url)) throw std::runtime_error("parameter " + ctx.pnh.resolveName("bus") + " missing: sim:///PATH");
-    int address = -1;
-    if (!ctx.pnh.getParam("address", address) || address < lo || address > hi)
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("address") + " must be a 7-bit address in " +
+    if (!ctx.params.has("bus")) throw std::runtime_error("parameter " + ctx.params.qualified("bus") + " missing: sim:///PATH");
+    const std::string url = ctx.params.requireString("bus");
+    const int address = ctx.params.optionalInt("address", -1);
+    if (address < lo || address > hi)
+      throw std::runtime_error("parameter " + ctx.params.qualified("address") + " must be a 7-bit address in " +
                                std::to_string(lo) + ".." + std::to_string(hi));
     address_ = static_cast<uint8_t>(address);
-    bus_ = I2cBusServer::attach(simBusPath(url, ctx.pnh.resolveName("bus")), address_, this);
+    bus_ = I2cBusServer::attach(simBusPath(url, ctx.params.qualified("bus")), address_, this);
   }
   void detachBus() {
     if (bus_) bus_->detach(address_);

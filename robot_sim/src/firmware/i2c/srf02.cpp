@@ -18,8 +18,6 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class SRF02Firmware : public RegisterChip {
  public:
   ~SRF02Firmware() override { stop(); }
@@ -27,11 +25,11 @@ class SRF02Firmware : public RegisterChip {
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
     pnh_ = ctx.pnh;
-    ranger_ = optionalString(ctx.pnh, "ranger", "");
-    conversion_ = optionalDouble(ctx.pnh, "conversion_time", 0.065);
-    requirePositive(ctx.pnh, "conversion_time", conversion_);
+    ranger_ = ctx.params.optionalString("ranger", "");
+    conversion_ = ctx.params.optionalDouble("conversion_time", 0.065);
+    ctx.params.requirePositive("conversion_time", conversion_);
     if (world_ && (ranger_.empty() || !world_->has("ranger", ranger_)))
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("ranger") + " = '" + ranger_ + "': no such ranger in the world");
+      throw std::runtime_error("parameter " + ctx.params.qualified("ranger") + " = '" + ranger_ + "': no such ranger in the world");
     truth_pub_ = ctx.nh.advertise<std_msgs::Float64>("/sim/" + ctx.name + "/range", 10, true);
     attachBus(ctx, 0x70, 0x7F);
   }

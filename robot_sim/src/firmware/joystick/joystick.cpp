@@ -30,19 +30,18 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class JoystickFirmware : public Firmware {
  public:
   ~JoystickFirmware() override { stop(); }
 
   void start(FirmwareContext& ctx) override {
-    if (!ctx.pnh.getParam("device", path_) || path_.empty() || path_[0] != '/')
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("device") + " must be an absolute path for the FIFO");
-    const int axes = optionalInt(ctx.pnh, "axes", 6);
-    const int buttons = optionalInt(ctx.pnh, "buttons", 12);
+    path_ = ctx.params.optionalString("device", "");
+    if (path_.empty() || path_[0] != '/')
+      throw std::runtime_error("parameter " + ctx.params.qualified("device") + " must be an absolute path for the FIFO");
+    const int axes = ctx.params.optionalInt("axes", 6);
+    const int buttons = ctx.params.optionalInt("buttons", 12);
     if (axes < 0 || axes > 64 || buttons < 0 || buttons > 128)
-      throw std::runtime_error("parameters " + ctx.pnh.resolveName("axes") + " (0..64) / buttons (0..128) out of range");
+      throw std::runtime_error("parameters " + ctx.params.qualified("axes") + " (0..64) / buttons (0..128) out of range");
     axes_.assign(axes, 0);
     buttons_.assign(buttons, 0);
     for (std::size_t i = 1; i < path_.size(); ++i)

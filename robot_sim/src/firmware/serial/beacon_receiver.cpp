@@ -37,24 +37,25 @@
 
 namespace robot_sim {
 
-using namespace robot_core::parameter_reader;  // as every emulator reads its parameters
-
 class BeaconReceiverFirmware : public Firmware {
  public:
   ~BeaconReceiverFirmware() override { stop(); }
 
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    if (!ctx.pnh.getParam("port", link_) || link_.empty() || link_[0] != '/')
-      throw std::runtime_error("parameter " + ctx.pnh.resolveName("port") + " must be an absolute path for the pty link");
-    period_ = optionalDouble(ctx.pnh, "period", 0.05);
-    requirePositive(ctx.pnh, "period", period_);
+    link_ = ctx.params.optionalString("port", "");
+    if (link_.empty() || link_[0] != '/')
+      throw std::runtime_error("parameter " + ctx.params.qualified("port") + " must be an absolute path for the pty link");
+    period_ = ctx.params.optionalDouble("period", 0.05);
+    ctx.params.requirePositive("period", period_);
     base_.clear();
-    for (double us : optionalDoubleList(ctx.pnh, "base_delta_us", {3000, 4500, 6000})) base_.push_back(static_cast<int>(us));
-    if (base_.empty()) throw std::runtime_error("parameter " + ctx.pnh.resolveName("base_delta_us") + " must not be empty");
-    garbage_every_ = optionalInt(ctx.pnh, "garbage_every", 0);
-    truncate_every_ = optionalInt(ctx.pnh, "truncate_every", 0);
-    const int seed = optionalInt(ctx.pnh, "seed", 1);
+    const std::vector<double> deltas =
+        ctx.params.has("base_delta_us") ? ctx.params.optionalDoubleList("base_delta_us") : std::vector<double>{3000, 4500, 6000};
+    for (double us : deltas) base_.push_back(static_cast<int>(us));
+    if (base_.empty()) throw std::runtime_error("parameter " + ctx.params.qualified("base_delta_us") + " must not be empty");
+    garbage_every_ = ctx.params.optionalInt("garbage_every", 0);
+    truncate_every_ = ctx.params.optionalInt("truncate_every", 0);
+    const int seed = ctx.params.optionalInt("seed", 1);
     rng_.seed(static_cast<unsigned>(seed));
 
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);

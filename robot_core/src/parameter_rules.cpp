@@ -1,15 +1,14 @@
-#include "robot_core/parameters.h"
+#include "parameter_rules.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "parameter_rules.h"
+#include "robot_core/parameter_error.h"
 
 namespace robot_core {
 
 namespace rules {
 
-namespace {
 // The value as the user wrote it (YAML-ish), for the error line: a refused value is always quoted.
 std::string quote(XmlRpc::XmlRpcValue& v) {
   switch (v.getType()) {
@@ -27,6 +26,7 @@ std::string quote(XmlRpc::XmlRpcValue& v) {
   }
 }
 
+namespace {
 [[noreturn]] void wrongType(XmlRpc::XmlRpcValue& v, const std::string& name, const char* expected) {
   throw ParameterError("parameter " + name + " = " + quote(v) + " has the wrong type: expected " + expected);
 }
@@ -88,74 +88,4 @@ void oneOf(const std::string& name, const std::string& value, const std::vector<
 }
 
 }  // namespace rules
-
-inline namespace parameter_reader {
-
-std::string qualified(const ros::NodeHandle& pnh, const std::string& name) { return pnh.resolveName(name); }
-
-namespace {
-// The value of `name`, or false when it is not set (one request to the master).
-bool fetch(const ros::NodeHandle& pnh, const std::string& name, XmlRpc::XmlRpcValue* v) {
-  return pnh.getParam(name, *v);
-}
-}  // namespace
-
-double requireDouble(const ros::NodeHandle& pnh, const std::string& name) {
-  XmlRpc::XmlRpcValue v;
-  if (!fetch(pnh, name, &v)) rules::missing(qualified(pnh, name), "a number");
-  return rules::toNumber(v, qualified(pnh, name));
-}
-
-int requireInt(const ros::NodeHandle& pnh, const std::string& name) {
-  XmlRpc::XmlRpcValue v;
-  if (!fetch(pnh, name, &v)) rules::missing(qualified(pnh, name), "an integer");
-  return rules::toInt(v, qualified(pnh, name));
-}
-
-std::string requireString(const ros::NodeHandle& pnh, const std::string& name) {
-  XmlRpc::XmlRpcValue v;
-  if (!fetch(pnh, name, &v)) rules::missing(qualified(pnh, name), "a string");
-  return rules::toString(v, qualified(pnh, name));
-}
-
-std::string renamed(const ros::NodeHandle& pnh, const std::string& now, const std::string& old) {
-  if (pnh.hasParam(now) || !pnh.hasParam(old)) return now;
-  ROS_WARN("%s is now called %s: rename it in the config", qualified(pnh, old).c_str(), qualified(pnh, now).c_str());
-  return old;
-}
-
-double optionalDouble(const ros::NodeHandle& pnh, const std::string& name, double fallback) {
-  XmlRpc::XmlRpcValue v;
-  return fetch(pnh, name, &v) ? rules::toNumber(v, qualified(pnh, name)) : fallback;
-}
-
-int optionalInt(const ros::NodeHandle& pnh, const std::string& name, int fallback) {
-  XmlRpc::XmlRpcValue v;
-  return fetch(pnh, name, &v) ? rules::toInt(v, qualified(pnh, name)) : fallback;
-}
-
-bool optionalBool(const ros::NodeHandle& pnh, const std::string& name, bool fallback) {
-  XmlRpc::XmlRpcValue v;
-  return fetch(pnh, name, &v) ? rules::toBool(v, qualified(pnh, name)) : fallback;
-}
-
-std::string optionalString(const ros::NodeHandle& pnh, const std::string& name, const std::string& fallback) {
-  XmlRpc::XmlRpcValue v;
-  return fetch(pnh, name, &v) ? rules::toString(v, qualified(pnh, name)) : fallback;
-}
-
-void requirePositive(const ros::NodeHandle& pnh, const std::string& name, double value) {
-  rules::positive(qualified(pnh, name), value);
-}
-
-void requireInRange(const ros::NodeHandle& pnh, const std::string& name, double value, double lo, double hi) {
-  rules::inRange(qualified(pnh, name), value, lo, hi);
-}
-
-void requireOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& value,
-                  const std::vector<std::string>& allowed) {
-  rules::oneOf(qualified(pnh, name), value, allowed);
-}
-
-}  // namespace parameter_reader
 }  // namespace robot_core
