@@ -83,6 +83,8 @@ void BoardNodeletBase::tryOpen() {
   try {
     BoardContext ctx{getNodeHandle(), getPrivateNodeHandle(), getName(), settings_.rate,
                      [member = member_name_] { LoopScheduler::instance().wake(member); }};
+    // read again at each attempt: a value fixed with `rosparam set` while the board is STALE counts
+    if (open_attempts_ > 0) params_ = robot_core::Params::of(getPrivateNodeHandle());
     board->configure(params_);
     board->init(ctx);
   } catch (const ParameterError& e) {

@@ -104,7 +104,7 @@ Params Params::child(XmlRpc::XmlRpcValue tree, std::string ns) const {
 }
 
 XmlRpc::XmlRpcValue* Params::find(const std::string& name) const {
-  {
+  if (asked_) {  // null only in a moved-from Params
     std::lock_guard<std::mutex> lock(asked_->mutex);
     asked_->names.insert(qualified(name));
   }
@@ -263,7 +263,8 @@ std::vector<std::pair<std::string, int>> Params::optionalIntMap(const std::strin
   if (v->getType() != XmlRpc::XmlRpcValue::TypeStruct) check(name, form);
   for (auto& e : *v) {
     const int index = rules::toInt(e.second, qualified(name + "/" + e.first));
-    if (index < 0) check(name + "/" + e.first, form);
+    if (index < 0)
+      throw ParameterError("parameter " + qualified(name + "/" + e.first) + " = " + std::to_string(index) + ": " + form);
     out.emplace_back(e.first, index);
   }
   std::lock_guard<std::mutex> lock(asked_->mutex);
@@ -292,7 +293,13 @@ std::string Params::renamed(const std::string& now, const std::string& old) cons
   return old;
 }
 
+void Params::unused(const std::string& name) const {
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  asked_->unused.insert(qualified(name));
+}
+
 void Params::collectUnasked(XmlRpc::XmlRpcValue& v, const std::string& path, std::vector<std::string>& out) const {
+  if (asked_->unused.count(path)) return;
   if (v.getType() == XmlRpc::XmlRpcValue::TypeStruct) {
     for (auto& e : v) collectUnasked(e.second, path + "/" + e.first, out);
     return;

@@ -173,3 +173,14 @@ TEST(Params, RequiredBlocksIntMapsAndRenamedKeys) {
   EXPECT_EQ(d.optionalStringList("absent", {"x"}), (std::vector<std::string>{"x"}));
   std::remove(f.c_str());
 }
+
+TEST(Params, UnusedBlocksAreNotUnknownKeys) {
+  const std::string f = writeYaml(
+      "d:\n"
+      "  beacons: {enabled: false, range_std: 0.02}\n"
+      "  typo: 1\n");
+  const Params d = Params::fromYamlFile(f, "d");
+  if (!d.optionalBool("beacons/enabled", true)) d.unused("beacons");
+  EXPECT_EQ(d.unasked(), (std::vector<std::string>{"/d/typo = 1"}));
+  std::remove(f.c_str());
+}

@@ -83,6 +83,10 @@ class Params {
   // absent, with a warning naming both, so a team's config keeps starting after an update.
   std::string renamed(const std::string& now, const std::string& old) const;
 
+  // The values under `name` this reader leaves alone in this configuration (a disabled block's
+  // settings, kept for when it is enabled again): they are not unknown keys.
+  void unused(const std::string& name) const;
+
   // The values under this namespace no reader asked for, as "<qualified name> = <value>" lines
   // (a value inside a list of dictionaries is named "<list>[i]/<key>"), in key order.
   std::vector<std::string> unasked() const;
@@ -98,6 +102,7 @@ class Params {
   struct Asked {  // the qualified names asked for (a reader may run on any thread)
     std::mutex mutex;
     std::set<std::string> names;
+    std::set<std::string> unused;  // whole subtrees (unused())
   };
   std::shared_ptr<Asked> asked_ = std::make_shared<Asked>();
 };

@@ -41,6 +41,8 @@ class BallHarvester : public Effector {
       sensor_ = ContactSpec::read(params, "ball_sensor");
       empty_after_ = params.optionalDouble("empty_after", 1.5);
       params.requirePositive("empty_after", empty_after_);
+    } else {
+      params.unused("empty_after");  // meaningful only with a ball sensor
     }
   }
 

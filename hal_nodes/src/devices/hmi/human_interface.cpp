@@ -49,6 +49,9 @@ class HumanInterface : public Device {
     for (const auto& k : params.blockNames("keys")) keys_.push_back(Key{k, ContactSpec::read(params, "keys/" + k)});
     display_ = params.optionalString("display", "none");
     params.requireOneOf("display", display_, {"lcd", "leds", "none"});
+    // the other display's settings, kept for when it is chosen again, are not unknown keys
+    for (const char* other : {"lcd", "leds", "led_bits"})
+      if (display_ != (std::string(other) == "led_bits" ? "leds" : other)) params.unused(other);
     if (display_ == "lcd") lcd_topic_ = params.requireString("lcd");
     if (display_ == "leds") {
       leds_topic_ = params.requireString("leds");

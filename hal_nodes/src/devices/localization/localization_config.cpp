@@ -131,6 +131,8 @@ LocalizationConfig readLocalizationConfig(const Params& p) {
     readInRange(p, "beacons/belt_max_age", &bc.belt_max_age, 0.0, 10.0);
     readInRange(p, "beacons/max_speed", &bc.max_speed, 0.0, 10.0);
     c.beacons_topic = p.optionalString("beacons/topic", c.beacons_topic);
+  } else {
+    p.unused("beacons");  // kept for when they are enabled again
   }
   c.compass_enabled = p.optionalBool("compass/enabled", c.compass_enabled);
   if (c.compass_enabled) {
@@ -141,6 +143,8 @@ LocalizationConfig readLocalizationConfig(const Params& p) {
     readInRange(p, "compass/outlier_probability", &cc.outlier_probability, 0.0, 0.99);
     readInRange(p, "compass/min_interval", &cc.min_interval, 0.0, 60.0);
     c.compass_topic = p.optionalString("compass/topic", c.compass_topic);
+  } else {
+    p.unused("compass");
   }
   for (const auto& name : p.blockNames("rangers")) {
     const std::string b = "rangers/" + name;
