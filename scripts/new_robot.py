@@ -6,7 +6,7 @@
 Writes, each a copy of the template's with its name replaced by NAME:
   config/NAME.yaml, config/NAME.sim.yaml        the robot and its simulation
   launch/NAME.launch                            the template's launch file (its `robot` argument's default)
-  robot_description/urdf/NAME.urdf, rviz/NAME.rviz
+  robot_description/rviz/NAME.rviz                (the URDF is written from config/NAME.yaml's robot: block)
   config/tune/NAME.yaml                         when the template has one
 then checks the new config (robot_description/scripts/check_config) and says what to edit next.
 It refuses a NAME that is taken or not a plain lowercase identifier, and writes nothing then.
@@ -25,10 +25,10 @@ NAME_RULE = re.compile(r'^[a-z][a-z0-9_]{1,31}$')
 # What a team edits after the copy, in the order that gets a robot driving (docs/adding.md, "Adding a robot").
 NEXT_STEPS = {
     'table': [
-        'config/{n}.yaml robot: (radius, wheel_radius, track_width, encoder_ticks_per_rev): the YAML anchors '
-        'carry them through the config',
+        'config/{n}.yaml robot: (radius, wheel_radius, track_width, encoder_ticks_per_rev, links): the YAML '
+        'anchors carry them through the config, and the URDF is written from it',
         'config/{n}.sim.yaml sim/world/robot: the simulated robot (outline, wheels, motors, sensor mounts), '
-        'and robot_description/urdf/{n}.urdf: the same geometry (test_product_description compares all three)',
+        'the same geometry (test_product_description compares the two)',
         'the start zone (table/start_zones, the robot in it) decides the colour: hal/localization/initial_pose, '
         'sim/world/robot start, sim/world/opponent start and hal/hmi side must all agree with it',
         'hcl: the boards of your robot, with their sim/firmware emulators; hal: the devices',
@@ -37,7 +37,7 @@ NEXT_STEPS = {
     'desk': [
         'config/{n}.yaml hcl: the boards of your robot, and config/{n}.sim.yaml their emulators',
         'hal: the devices on them; brain: its strategy (smart_brain/src/smart_brain/strategies)',
-        'robot_description/urdf/{n}.urdf: its frames',
+        'config/{n}.yaml robot/links: its frames (the URDF is written from them)',
     ],
 }
 
@@ -45,8 +45,7 @@ NEXT_STEPS = {
 def files_of(robot):
     """(path relative to ROOT, required) of every file a robot has."""
     return [('config/%s.yaml' % robot, True), ('config/%s.sim.yaml' % robot, True),
-            ('launch/%s.launch' % robot, True), ('robot_description/urdf/%s.urdf' % robot, True),
-            ('robot_description/rviz/%s.rviz' % robot, True), ('config/tune/%s.yaml' % robot, False)]
+            ('launch/%s.launch' % robot, True), ('robot_description/rviz/%s.rviz' % robot, True), ('config/tune/%s.yaml' % robot, False)]
 
 
 def renamed(text, template, name):

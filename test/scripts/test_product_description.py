@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""The robot descriptions: every URDF is one tree under base_link with the frames the devices
-and rviz rely on, and config/<robot>.yaml names only frames that exist in its URDF (a ranger's
-frame_id is a link; a simulated ranger's mount is where the URDF puts it).
+"""The robot descriptions: every URDF (robot_description/scripts/robot_urdf writes it from the
+config's robot: block, as the launch does) is one tree under base_link with the frames the
+devices and rviz rely on, and config/<robot>.yaml names only frames that exist in its URDF (a
+ranger's frame_id is a link; a simulated ranger's mount is where the URDF puts it); a bad robot
+block is refused with one line.
 Also: table_markers draws the config's table and refuses a bad one with one clear line."""
 import glob
 import math
@@ -18,7 +20,7 @@ import yaml
 from visualization_msgs.msg import MarkerArray
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-URDF_DIR = os.path.join(rospkg.RosPack().get_path('robot_description'), 'urdf')
+ROBOT_URDF = os.path.join(rospkg.RosPack().get_path('robot_description'), 'scripts', 'robot_urdf')
 COMMON = ['base_link', 'base_footprint', 'left_wheel_link', 'right_wheel_link', 'caster_link',
           'compass_link', 'beacon_receiver_link', 'camera_link', 'camera_optical_frame']
 # Frames beyond those of a robot on the table (COMMON) that rviz and the robot's devices rely on.
@@ -52,9 +54,16 @@ def expected_frames(robot):
     return common + EXTRA_FRAMES.get(robot, [])
 
 
+def urdf_root(robot):
+    """The robot's URDF as the launch sets /robot_description, parsed."""
+    out = subprocess.run([ROBOT_URDF, os.path.join(ROOT, 'config', robot + '.yaml')], stdout=subprocess.PIPE,
+                         universal_newlines=True, check=True).stdout
+    return ET.fromstring(out)
+
+
 def parse(robot):
     """(links, {child: (parent, xyz, rpy)})."""
-    root = ET.parse(os.path.join(URDF_DIR, robot + '.urdf')).getroot()
+    root = urdf_root(robot)
     links = [l.get('name') for l in root.findall('link')]
     joints = {}
     for j in root.findall('joint'):
@@ -113,7 +122,7 @@ class DescriptionTest(unittest.TestCase):
             cfg, sim = load_config(robot, True)
             for path, frame in frames_named_in(cfg) + frames_named_in(sim):
                 self.assertIn(frame, set(links) | GLOBAL_FRAMES,
-                              'config/%s: %s = %s is not a link of urdf/%s.urdf' % (robot, path, frame, robot))
+                              'config/%s: %s = %s is not a link of its URDF (robot/links)' % (robot, path, frame))
 
     def test_simulated_ranger_mounts_match_urdf(self):
         # sim/world/robot/rangers/<name>/mount: [x, y, theta] in base_link; the URDF link is
@@ -150,7 +159,7 @@ class DescriptionTest(unittest.TestCase):
             world_robot = ((sim.get('sim') or {}).get('world') or {}).get('robot') or {}
             if 'wheel_base' not in world_robot:
                 continue
-            root = ET.parse(os.path.join(URDF_DIR, robot + '.urdf')).getroot()
+            root = urdf_root(robot)
             _, left, _ = joints['left_wheel_link']
             _, right, _ = joints['right_wheel_link']
             self.assertAlmostEqual(left[1] - right[1], world_robot['wheel_base'], delta=0.002, msg=robot + ' track')
@@ -170,7 +179,7 @@ class DescriptionTest(unittest.TestCase):
             geometry = cfg['robot']
             hal = cfg['hal']
             links, joints = parse(robot)
-            root = ET.parse(os.path.join(URDF_DIR, robot + '.urdf')).getroot()
+            root = urdf_root(robot)
             chassis = [l for l in root.findall('link') if l.get('name') == 'chassis_link'][0]
             _, left, _ = joints['left_wheel_link']
             _, right, _ = joints['right_wheel_link']

@@ -8,7 +8,6 @@ map -> odom -> base_link exists and /mcl/pose flows. No product node (/hcl, /hal
 subscribes a topic that nothing publishes, unless config/<robot>.yaml lists it in
 `optional_topics` (inputs from a person or a tool: a dead input is a wiring error otherwise).
 Parameters: ~robot (eurobot2009 | logion), ~expected_nodes (list: what this robot must run)."""
-import os
 import subprocess
 import sys
 import threading
@@ -16,7 +15,6 @@ import time
 import unittest
 import xml.etree.ElementTree as ET
 
-import rospkg
 import rospy
 import rostest
 import tf2_ros
@@ -24,8 +22,6 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import MarkerArray
-
-URDF_DIR = os.path.join(rospkg.RosPack().get_path('robot_description'), 'urdf')
 
 
 def configured(section):
@@ -83,7 +79,7 @@ class RobotTest(unittest.TestCase):
         self.assertAlmostEqual(table[0].scale.y, rospy.get_param('/table/width'))
 
     def test_4_every_urdf_frame_is_in_tf(self):
-        root = ET.parse(os.path.join(URDF_DIR, self.robot + '.urdf')).getroot()
+        root = ET.fromstring(rospy.get_param('/robot_description'))  # as the launch wrote it from the config
         links = [l.get('name') for l in root.findall('link')]
         deadline = time.monotonic() + 20.0
         missing = links
