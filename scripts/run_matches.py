@@ -59,6 +59,7 @@ import time
 
 import yaml
 from robot_core import start_zone
+from robot_core.config_tree import merged  # the config as roslaunch loads one rosparam file after another
 
 SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(SCRIPTS)
@@ -105,17 +106,6 @@ def log(msg):
 
 
 # ---- the robot's configuration (as the launch loads it) ----------------------------------------
-
-def merged(base, over):
-    """`over` merged into `base` key by key, as roslaunch loads one rosparam file after another."""
-    out = dict(base)
-    for key, value in over.items():
-        if isinstance(value, dict) and isinstance(out.get(key), dict):
-            out[key] = merged(out[key], value)
-        else:
-            out[key] = value
-    return out
-
 
 def robot_config(robot):
     """config/ROBOT.yaml with config/ROBOT.sim.yaml over it (the simulated robot's parameters)."""
