@@ -1,9 +1,11 @@
-// The Device: what every HAL device implements (init, refresh, halt).
+// The Device: what every HAL device implements (configure, init, refresh, halt).
 // A device turns raw board values into physical meaning and offers a hardware-independent
 // interface to the brain. The framework (DeviceNodelet) calls:
 //   configure(params)  first: read every ~parameter into members (robot_core/params.h) and
 //               throw robot_core::ParameterError for a bad one. Nothing else: check_config runs
 //               it over a config file with no master, and calls every key it never asked for unknown.
+//               The object itself is built there too, with no ros::init: no ros::NodeHandle (or
+//               a tf listener) as a member constructed with the device; make those in init().
 //   init(ctx)   once, after configure(): declare inputs with addInput(), advertise outputs.
 //   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
 //               inputs, compute, publish. Call setUnavailable("why") when it cannot. An input

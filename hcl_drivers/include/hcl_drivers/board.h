@@ -5,7 +5,9 @@
 //   configure(params)  first: read every ~parameter into members (robot_core/params.h) and
 //               throw ParameterError for a bad one: the node stops with that one line. Nothing
 //               else: check_config runs it over a config file, with no master and no bus, and
-//               calls every key it never asked for unknown.
+//               calls every key it never asked for unknown. So the object itself is built there
+//               too, with no ros::init: no ros::NodeHandle (or anything holding one) as a member
+//               constructed with the board; make those in init().
 //   init(ctx)   once, at load, after configure(): open the bus, advertise ~state, subscribe
 //               commands, with the values configure() read.
 //   service()   at the configured ~rate on a polling thread (never the nodelet callback queue):
