@@ -1,14 +1,14 @@
 # The project's commands. Everything runs as root on Debian bookworm, with Debian's
 # python3 first on PATH (the machine's own python3 has no ROS modules).
 #   make new-robot NAME=my_robot [FROM=skeleton|eurobot2009|logion]  a new robot's files from a template
-#   make check-config [ROBOT=eurobot2009] [OVERLAY=a.yaml] [STRATEGY=name]  every config reader, no master, in seconds
-#   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1] [OVERLAY=params.yaml]  install, build, run
+#   make check-config [ROBOT=eurobot2009] [OVERLAY=a.yaml] [STRATEGY=name] [SIDE=zone]  every config reader, no master, in seconds
+#   make run [ROBOT=eurobot2009] [STRATEGY=name] [SEED=1] [OVERLAY=params.yaml] [SIDE=zone]  install, build, run
 #                               one simulated match headless (also logion; skeleton runs until
 #                               Ctrl-C), print the score (ours, opponent), bag and report paths: a
 #                               folder of its own, report/ROBOT/<UTC time>_seed<k>/, and
 #                               report/ROBOT/latest to the last complete one
 #   make matches [ROBOT=eurobot2009] [N=20] [SEED=1] [FACTOR=0] [CLUSTER=tcp://HOST:8786]
-#                [WORKERS=W] [FETCH_BAGS=1] [OVERLAY=params.yaml]  install, build, run N seeded
+#                [WORKERS=W] [FETCH_BAGS=1] [OVERLAY=params.yaml] [SIDE=zone]  install, build, run N seeded
 #                               matches headless on a Dask cluster (CLUSTER's scheduler, else a
 #                               local one of WORKERS processes, default one per 2 cores; opponent:
 #                               random walk, route, blocker, player in turn), a row per match,
@@ -81,6 +81,9 @@ ROBOT ?= eurobot2009
 STRATEGY ?=
 SEED ?= 1
 OVERLAY ?=
+# SIDE=green: play from that start zone (robot_core.start_zone.side_overlay: the simulated robot,
+# its initial_pose, its side switch and the opponent's start follow it)
+SIDE ?=
 # OVERLAY="a.yaml b.yaml": several overlays, each over the one before (the runners take them comma-separated)
 comma := ,
 empty :=
@@ -147,7 +150,7 @@ deps:
 # master: errors in seconds, one line each (robot_description/scripts/check_config). The runners
 # below run it first and start nothing on an error; every robot's launch file runs it too.
 CHECK_CONFIG = $(SETUP) && $(ROOT)/robot_description/scripts/check_config $(ROBOT) \
-  $(if $(OVERLAY),--overlay $(OVERLAY_ARG)) $(if $(STRATEGY),--strategy $(STRATEGY))
+  $(if $(OVERLAY),--overlay $(OVERLAY_ARG)) $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(SIDE),--side $(SIDE))
 .PHONY: check-config
 check-config:
 	@test -x $(ROOT)/devel/lib/hal_nodes/check_hal_config || $(MAKE) build
@@ -160,7 +163,7 @@ build: deps
 run: build
 	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/run_match.py $(ROBOT) --seed $(SEED) $(if $(STRATEGY),--strategy $(STRATEGY)) \
-	  $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
+	  $(if $(OVERLAY),--overlay $(OVERLAY_ARG)) $(if $(SIDE),--side $(SIDE))
 
 # N seeded matches (seeds SEED, SEED+1, ...) at real_time_factor FACTOR (0: as fast as the machine goes).
 .PHONY: matches
@@ -168,7 +171,8 @@ matches: build
 	@$(CHECK_CONFIG)
 	$(SETUP) && python3 $(ROOT)/scripts/run_matches.py $(ROBOT) --n $(or $(N),20) --seed $(SEED) --factor $(FACTOR) \
 	  $(if $(STRATEGY),--strategy $(STRATEGY)) $(if $(CLUSTER),--cluster $(CLUSTER)) \
-	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(OVERLAY_ARG))
+	  $(if $(WORKERS),--workers $(WORKERS)) $(if $(FETCH_BAGS),--fetch-bags) $(if $(OVERLAY),--overlay $(OVERLAY_ARG)) \
+	  $(if $(SIDE),--side $(SIDE))
 
 # The scoreboard: N matches per robot against config/scoreboard.yaml's targets (scripts/scoreboard.py).
 ROBOTS ?= eurobot2009,logion

@@ -30,6 +30,7 @@ import calibration_output as out  # noqa: E402
 import calibration_replay as replay  # noqa: E402
 import calibration_signals as sig  # noqa: E402
 from run_matches import merged, robot_config  # noqa: E402
+from robot_core.config_tree import simulated_robot  # noqa: E402
 
 SEGMENT = 1.0  # [s] of the estimate per segment when the match has too few stops
 MIN_SEGMENTS = 10
@@ -153,7 +154,7 @@ def replay_check(s, config, sim_pairs, motors):
     if binary is None:
         return None
     fitted = merged(config, out.nested(sim_pairs))
-    encoders = get(config, 'sim', 'world', 'robot', 'encoders', default={}) or {}
+    encoders = simulated_robot(config).get('encoders') or {}
     result = {}
     for side, m in motors.items():
         tpr = next((float(e.get('ticks_per_rev', 512)) for e in encoders.values()

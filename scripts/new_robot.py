@@ -27,8 +27,8 @@ NEXT_STEPS = {
     'table': [
         'config/{n}.yaml robot: (radius, wheel_radius, track_width, encoder_ticks_per_rev, links): the YAML '
         'anchors carry them through the config, and the URDF is written from it',
-        'config/{n}.sim.yaml sim/world/robot: the simulated robot (outline, wheels, motors, sensor mounts), '
-        'the same geometry (test_product_description compares the two)',
+        'config/{n}.sim.yaml sim/world/robot: what only the simulator needs (motors\' dynamics, switches, '
+        'collectors, noise); its outline, wheels and ranger mounts come from robot: above',
         'the start zone (table/start_zones, the robot in it) decides the colour: hal/localization/initial_pose, '
         'sim/world/robot start, sim/world/opponent start and hal/hmi side must all agree with it',
         'hcl: the boards of your robot, with their sim/firmware emulators; hal: the devices',

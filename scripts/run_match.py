@@ -2,7 +2,7 @@
 """`make run`: one simulated match of a robot, headless, from start cord to report.
 
     scripts/run_match.py ROBOT [--out DIR] [--strategy NAME] [--seed N] [--real-time-factor F]
-                         [--overlay PARAMS.yaml] [--faults SCHEDULE.yaml]
+                         [--overlay PARAMS.yaml] [--faults SCHEDULE.yaml] [--side ZONE]
 
 Starts launch/ROBOT.launch (simulator, HCL, HAL, brain) with record:=true, waits until the
 brain says the robot is ready (every product node runs, every board and device OK: the "ready:
@@ -11,7 +11,9 @@ shows the cord inserted (HAL human interface, /hal/hmi/input), pulls the start c
 (the simulated cord switch, read by the boards, the HMI device and the brain), follows the
 match clock, stops everything once the brain reports the match ended, and writes the match
 report. Prints where the bag and the report are and the referee's score. Robots without a
-match (no table in their config: the skeleton) just run. With --faults, the schedule's faults are injected into the match at
+match (no table in their config: the skeleton) just run. With --side, the robot plays from that
+start zone: its start, initial_pose, side switch and the opponent's start follow it (OUT/side.yaml,
+robot_core.start_zone.side_overlay, over the other overlays). With --faults, the schedule's faults are injected into the match at
 their match times (scripts/fault_injector.py: `make chaos`), and what was injected when is
 written to OUT/faults.yaml. A recorder that was killed and respawned left parts of the bag:
 they are joined into the one bag (scripts/bag_parts.py) before the report.
@@ -57,6 +59,8 @@ def main():
                          'e.g. another opponent: sim: {world: {opponent: {...}}}; several, comma-separated, '
                          'each over the one before')
     ap.add_argument('--faults', default=None, help='YAML list of faults to inject (scripts/fault_injector.py)')
+    ap.add_argument('--side', default=None, help='the start zone to play from (its name: the colour); default: '
+                    'where the config starts the simulated robot')
     ap.add_argument('--startup-timeout', type=float, default=120.0, help='[s, wall] to reach waiting_for_start')
     ap.add_argument('--match-timeout', type=float, default=400.0, help='[s, wall] for the match to end')
     args = ap.parse_args()
@@ -100,6 +104,10 @@ def main():
         cmd.append('sim_dir:=' + sim_dir)
     if args.strategy:
         cmd.append('strategy:=' + args.strategy)
+    if args.side:  # the side's overlay, kept beside the bag, over the user's
+        from run_matches import side_overlay_file
+        args.overlay = ','.join(p for p in (args.overlay, side_overlay_file(args.robot, args.overlay, args.side,
+                                                                              args.out, 'run')) if p)
     if args.overlay:
         if 'name="overlay"' not in declared:
             sys.exit('run: launch/%s.launch has no overlay argument' % args.robot)

@@ -3,6 +3,7 @@
 row of figures per match, a summary PNG and a check of the invariants every match must keep.
 
     scripts/run_matches.py ROBOT [--n 20] [--seed 1] [--factor 0] [--out DIR] [--strategy NAME] [--overlay FILE]
+                           [--side ZONE]
                            [--cluster tcp://HOST:8786] [--workers W] [--fetch-bags] [--match-duration S]
 
 The matches run on a Dask distributed cluster (scripts/match_cluster.py): the scheduler at
@@ -59,7 +60,7 @@ import time
 
 import yaml
 from robot_core import start_zone
-from robot_core.config_tree import merged  # the config as roslaunch loads one rosparam file after another
+from robot_core.config_tree import merged, simulated_robot  # the config as roslaunch loads it; the simulated robot
 
 SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(SCRIPTS)
@@ -199,6 +200,24 @@ def user_overlay(paths, who):
             sys.exit('%s: --overlay %s: must be a YAML dictionary of parameters (as config/<robot>.yaml)' % (who, path))
         out = merged(out, data)
     return out
+
+
+def side_overlay(robot, user, side, who):
+    """The overlay that plays `side` (a start zone) over the config and the user's overlay
+    (robot_core.start_zone.side_overlay); a clear exit when the config has no such zone."""
+    try:
+        return start_zone.side_overlay(merged(robot_config(robot), user), side)
+    except ValueError as e:
+        sys.exit('%s: %s' % (who, e))
+
+
+def side_overlay_file(robot, overlay_paths, side, folder, who):
+    """side_overlay written to FOLDER/side.yaml, for a launch's overlay argument: its path."""
+    path = os.path.join(folder, 'side.yaml')
+    with open(path, 'w') as f:
+        f.write('# scripts/run_matches.py: the parameters that play from the %s start zone\n' % side)
+        yaml.safe_dump(side_overlay(robot, user_overlay(overlay_paths, who), side, who), f, default_flow_style=None)
+    return path
 
 
 def with_duration(overlay, seconds):
@@ -341,8 +360,7 @@ def figures(m, config, start, end, idle):
     _, _, score = m.score_series()
     if score:
         out.update(ours=score[-1][1], theirs=score[-1][2])
-    world = config['sim']['world']
-    radii = world['robot']['radius'] + world['opponent']['radius']
+    radii = simulated_robot(config)['radius'] + config['sim']['world']['opponent']['radius']
     out['contacts'] = contacts(m.poses('/sim/ground_truth'), m.poses('/sim/opponent'), radii)
     out['stalls'], out['stalls_in_contact'] = stalled_goals(m, radii)
     fired = m.triggers()
@@ -510,6 +528,8 @@ def main():
     ap.add_argument('--overlay', default=None, help='YAML of parameters (several: comma-separated) over the config for every match '
                     '(as make run OVERLAY=...); each match adds its opponent')
     ap.add_argument('--strategy', default=None, help="the brain's strategy (default: the robot's)")
+    ap.add_argument('--side', default=None, help='the start zone to play from (default: where the config starts '
+                    'the simulated robot)')
     ap.add_argument('--cluster', default=None, help='Dask scheduler address, tcp://HOST:8786 (default: a local cluster)')
     ap.add_argument('--workers', type=int, default=None, help='local cluster size (default: one worker per two cores)')
     ap.add_argument('--fetch-bags', action='store_true', help="bring each match's bag back from its worker")
@@ -524,6 +544,8 @@ def main():
     if 'opponent' not in config.get('sim', {}).get('world', {}):
         sys.exit('matches: %s has no simulated match (no sim/world/opponent in its config)' % args.robot)
     user = user_overlay(args.overlay, 'matches')
+    if args.side:
+        user = merged(user, side_overlay(args.robot, user, args.side, 'matches'))
     own_folder = args.out is None
     if own_folder:
         args.out = run_folders.new_folder(os.path.join(ROOT, 'report', args.robot), 'matches_' + run_folders.stamp())

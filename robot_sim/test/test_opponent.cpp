@@ -13,11 +13,13 @@
 using namespace robot_sim;
 
 namespace {
-// The robot's own world and table (config/<robot>.sim.yaml's sim/world, config/<robot>.yaml's table).
+// The robot's own world, table and description (config/<robot>.sim.yaml's sim/world,
+// config/<robot>.yaml's table and robot).
 WorldConfig robotWorld(const std::string& robot) {
   const std::string dir = ROBOT_CONFIG_DIR;
   return parseWorldConfig(robot_core::Params::fromYamlFile(dir + "/" + robot + ".sim.yaml", "sim/world"),
-                          robot_core::Params::fromYamlFile(dir + "/" + robot + ".yaml", "table"));
+                          robot_core::Params::fromYamlFile(dir + "/" + robot + ".yaml", "table"),
+                          robot_core::Params::fromYamlFile(dir + "/" + robot + ".yaml", "robot"));
 }
 
 struct Watch {

@@ -300,6 +300,54 @@ TEST(Faults, ScheduleStartsEndsAndClears) {
   EXPECT_TRUE(f.empty());
 }
 
+// The simulated robot is the robot as described (/robot): outline radius, wheels, the driven
+// encoders' resolution and each ranger's mount from its link; a value of its own wins.
+TEST(Config, TheSimulatedRobotTakesItsGeometryFromTheDescription) {
+  XmlRpc::XmlRpcValue world, table, robot;
+  world["robot"]["motors"]["left"]["drive"] = std::string("left");
+  world["robot"]["motors"]["right"]["drive"] = std::string("right");
+  world["robot"]["motors"]["lift"]["max_speed"] = 5.0;
+  world["robot"]["encoders"]["left_driven"]["motor"] = std::string("left");
+  world["robot"]["encoders"]["lift"]["motor"] = std::string("lift");
+  world["robot"]["rangers"]["front"]["type"] = std::string("srf02");
+  robot["radius"] = 0.21;
+  robot["wheel_radius"] = 0.041;
+  robot["track_width"] = 0.31;
+  robot["encoder_ticks_per_rev"] = 400;
+  XmlRpc::XmlRpcValue at;
+  for (int i = 0; i < 6; ++i) at[i] = std::vector<double>{0.12, -0.03, 0.1, 0.0, 0.0, 0.5}[i];
+  robot["links"]["ranger_front"]["at"] = at;
+  WorldConfig c = parseWorldConfig(world, "/sim/world", table, "/table", robot, "/robot");
+  EXPECT_DOUBLE_EQ(c.robot.radius, 0.21);
+  EXPECT_DOUBLE_EQ(c.robot.wheel_radius, 0.041);
+  EXPECT_DOUBLE_EQ(c.robot.wheel_base, 0.31);
+  EXPECT_EQ(c.robot.encoders.at("left_driven").ticks_per_rev, 400);
+  EXPECT_EQ(c.robot.encoders.at("lift").ticks_per_rev, 512);  // not a driven wheel: its own default
+  EXPECT_DOUBLE_EQ(c.robot.rangers.at("front").mount.x, 0.12);
+  EXPECT_DOUBLE_EQ(c.robot.rangers.at("front").mount.y, -0.03);
+  EXPECT_DOUBLE_EQ(c.robot.rangers.at("front").mount.theta, 0.5);
+
+  world["robot"]["wheel_base"] = 0.32;  // a simulated robot that differs on purpose
+  c = parseWorldConfig(world, "/sim/world", table, "/table", robot, "/robot");
+  EXPECT_DOUBLE_EQ(c.robot.wheel_base, 0.32);
+
+  robot["wheel_radius"] = -0.04;
+  try {
+    parseWorldConfig(world, "/sim/world", table, "/table", robot, "/robot");
+    FAIL() << "a negative described wheel radius accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/robot/wheel_radius"), std::string::npos) << e.what();
+  }
+  robot["wheel_radius"] = 0.04;
+  robot["links"]["ranger_front"]["parent"] = std::string("camera_link");
+  try {
+    parseWorldConfig(world, "/sim/world", table, "/table", robot, "/robot");
+    FAIL() << "a ranger hung on another link taken as mounted on base_link";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/robot/links/ranger_front/parent"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Config, DefaultsAndOneLineErrorsNamingTheParameter) {
   XmlRpc::XmlRpcValue world, table;
   world["robot"]["motors"]["left"]["drive"] = std::string("left");

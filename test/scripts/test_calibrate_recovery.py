@@ -27,6 +27,7 @@ import rosbag
 import rospy
 import rostest
 import yaml
+from robot_core.config_tree import simulated_robot
 
 from match_runner import run_runner  # beside this script
 
@@ -52,7 +53,7 @@ REPLAY = re.compile(r'replay (?P<side>\w+) motor: encoder counts off by +(?P<aft
 def changed_world(config, change):
     """The sim/world overlay of one case, from the config's own values."""
     world = config['sim']['world']
-    robot = world['robot']
+    robot = simulated_robot(config)  # the geometry the simulator takes from the description
     motor = robot['motors'][change['motor']]
     over = {'robot': {
         'wheel_base': robot['wheel_base'] * (1 + change['wheel_base']),
@@ -123,7 +124,7 @@ class CalibrateRecoveryTest(unittest.TestCase):
         bag, world, robot, sim, output = self.record_and_calibrate(seed, change)
         base = self.config['sim']['world']
         true_world = run_matches.merged(base, world)
-        truth = true_world['robot']
+        truth = simulated_robot({'robot': self.config['robot'], 'sim': {'world': true_world}})
 
         # the robot's geometry: what the changed simulator's wheels count per metre, its wheel base
         driven = robot['hal']['odometry']['pairs']['driven']

@@ -17,6 +17,7 @@ import rospkg
 import rospy
 import rostest
 import yaml
+from robot_core.config_tree import merged, simulated_robot
 from visualization_msgs.msg import MarkerArray
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
@@ -42,11 +43,14 @@ def robots():
 
 def table_robots():
     """The robots that play on the table: their simulator has a driven robot (sim/world/robot)."""
-    return [r for r in robots() if 'wheel_base' in sim_robot(load_config(r, True)[1])]
+    return [r for r in robots() if 'motors' in sim_robot(r)]
 
 
-def sim_robot(sim):
-    return ((sim.get('sim') or {}).get('world') or {}).get('robot') or {}
+def sim_robot(robot):
+    """The simulated robot as the simulator reads it: sim/world/robot with the geometry it takes
+    from the robot's description (robot_core.config_tree.simulated_robot)."""
+    cfg, sim = load_config(robot, True)
+    return simulated_robot(merged(cfg, sim))
 
 
 def expected_frames(robot):
@@ -130,8 +134,7 @@ class DescriptionTest(unittest.TestCase):
         checked = 0
         for robot in table_robots():
             links, joints = parse(robot)
-            _, sim = load_config(robot, True)
-            rangers = (((sim.get('sim') or {}).get('world') or {}).get('robot') or {}).get('rangers') or {}
+            rangers = sim_robot(robot).get('rangers') or {}
             for name, r in rangers.items():
                 link = name if name in links else 'ranger_' + name
                 self.assertIn(link, links, 'config/%s.sim.yaml sim/world/robot/rangers/%s: the robot has no such '
@@ -155,10 +158,7 @@ class DescriptionTest(unittest.TestCase):
         checked = 0
         for robot in table_robots():
             _, joints = parse(robot)
-            _, sim = load_config(robot, True)
-            world_robot = ((sim.get('sim') or {}).get('world') or {}).get('robot') or {}
-            if 'wheel_base' not in world_robot:
-                continue
+            world_robot = sim_robot(robot)
             root = urdf_root(robot)
             _, left, _ = joints['left_wheel_link']
             _, right, _ = joints['right_wheel_link']
@@ -176,6 +176,16 @@ class DescriptionTest(unittest.TestCase):
         checked = 0
         for robot in table_robots():
             cfg, sim = load_config(robot, True)
+            # The shipped simulated robot is the robot as described: no copy of the geometry in
+            # the sim overlay (a copy is for a simulator that differs on purpose: calibration).
+            own = sim['sim']['world']['robot']
+            copies = ['sim/world/robot/' + k for k in ('radius', 'wheel_radius', 'wheel_base') if k in own]
+            copies += ['sim/world/robot/rangers/%s/mount' % n for n, r in (own.get('rangers') or {}).items()
+                       if 'mount' in (r or {})]
+            copies += ['sim/world/robot/encoders/%s/ticks_per_rev' % n for n, e in (own.get('encoders') or {}).items()
+                       if e.get('motor') in ('left', 'right') and 'ticks_per_rev' in e]
+            self.assertEqual(copies, [], 'config/%s.sim.yaml copies the robot\'s geometry (config/%s.yaml robot:): '
+                             'remove them, the simulator reads the description' % (robot, robot))
             geometry = cfg['robot']
             hal = cfg['hal']
             links, joints = parse(robot)
@@ -183,7 +193,7 @@ class DescriptionTest(unittest.TestCase):
             chassis = [l for l in root.findall('link') if l.get('name') == 'chassis_link'][0]
             _, left, _ = joints['left_wheel_link']
             _, right, _ = joints['right_wheel_link']
-            world_robot = sim['sim']['world']['robot']
+            world_robot = sim_robot(robot)
             radius, track, wheel = geometry['radius'], geometry['track_width'], geometry['wheel_radius']
             for where, value in (('urdf chassis_link', float(chassis.find('visual/geometry/cylinder').get('radius'))),
                                  ('sim/world/robot/radius', world_robot['radius']),

@@ -12,6 +12,7 @@ import time
 import unittest
 
 import rospy
+from robot_core.config_tree import simulated_robot
 from robot_core.geometry import yaw_of
 import rostest
 from nav_msgs.msg import Odometry
@@ -124,6 +125,8 @@ class SimWorldRouteTest(unittest.TestCase):
         while time.monotonic() < deadline and min(t.latest() for t in cls.truth.values()) < END:
             time.sleep(0.1)
         cls.world = rospy.get_param('/a/sim/world')
+        # the simulated robot as the simulator reads it: its geometry from the description /a/robot
+        cls.world['robot'] = simulated_robot({'robot': rospy.get_param('/a/robot'), 'sim': {'world': cls.world}})
         cls.expected = integrate_route(cls.world, END + 0.5)
 
     def test_1_every_simulator_reached_the_end(self):

@@ -106,7 +106,7 @@ class SimServicesTest(unittest.TestCase):
         self.assertEqual(len(pts), 49)
         self.assertEqual((pts[0].x, pts[0].y), (pts[-1].x, pts[-1].y))
         truth = self.truth.wait().pose.pose.position
-        radius = rospy.get_param('/sim/world/robot/radius')
+        radius = rospy.get_param('/sim/world/robot/radius', rospy.get_param('/robot/radius'))  # the simulator's rule
         for p in pts:
             self.assertAlmostEqual(math.hypot(p.x - truth.x, p.y - truth.y), radius, delta=1e-6)
         elements = self.elements.wait()

@@ -10,6 +10,8 @@ import time
 import unittest
 
 import yaml
+from robot_core import start_zone
+from robot_core.config_tree import merged
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))  # the checkout, not the src/ symlink
 CHECK = os.path.join(ROOT, 'robot_description', 'scripts', 'check_config')
@@ -22,6 +24,17 @@ def robots():
     """Every robot the product ships: config/ROBOT.yaml with its launch/ROBOT.launch."""
     names = [os.path.basename(p)[:-len('.launch')] for p in glob.glob(os.path.join(ROOT, 'launch', '*.launch'))]
     return sorted(n for n in names if os.path.exists(os.path.join(ROOT, 'config', n + '.yaml')))
+
+
+def config_tree(robot):
+    """config/ROBOT.yaml with its sim overlay, merged as the launch loads them."""
+    tree = {}
+    for name in (robot + '.yaml', robot + '.sim.yaml'):
+        path = os.path.join(ROOT, 'config', name)
+        if os.path.exists(path):
+            with open(path) as f:
+                tree = merged(tree, yaml.safe_load(f) or {})
+    return tree
 
 
 def run(args):
@@ -131,6 +144,33 @@ class CheckConfigTest(unittest.TestCase):
         path, _ = self.moved_to_the_other_zone('eurobot2009', also_the_rest=True)
         code, _, err, _ = run(['eurobot2009', '--overlay', path])
         self.assertEqual(code, 0, err)
+
+    def test_one_side_choice_sets_start_initial_pose_switch_and_opponent(self):
+        # SIDE=zone (robot_core.start_zone.side_overlay) over each table robot, for each of its
+        # zones: the rules above find nothing to disagree with, and the robot stands in that zone.
+        played = 0
+        for robot in robots():
+            tree = config_tree(robot)
+            zones = (tree.get('table') or {}).get('start_zones') or []
+            for zone in zones:
+                over = start_zone.side_overlay(tree, zone['name'])
+                moved = merged(tree, over)
+                self.assertEqual(start_zone.errors(moved), [], '%s from %s' % (robot, zone['name']))
+                self.assertEqual(start_zone.zone_of(moved['sim']['world']['robot']['start'], zones), zone['name'])
+                for block in moved['hal'].values():
+                    if isinstance(block, dict) and 'initial_pose' in block:
+                        self.assertEqual(start_zone.zone_of(block['initial_pose'], zones), zone['name'])
+                played += 1
+        self.assertGreaterEqual(played, 4)  # two table robots, two zones each
+        with self.assertRaises(ValueError) as no_zone:
+            start_zone.side_overlay(config_tree('logion'), 'purple')
+        self.assertIn('SIDE=purple: allowed values: red, blue', str(no_zone.exception))
+
+    def test_check_config_plays_a_side(self):
+        code, out, err, _ = run(['eurobot2009', '--side', 'green'])
+        self.assertEqual(code, 0, err)
+        self.assertIn('from the green zone: ok', out)
+        self.refused(['logion', '--side', 'green'], 'SIDE=green: allowed values: red, blue')
 
     def test_a_simulated_start_outside_every_start_zone(self):
         path = self.overlay('sim:\n  world:\n    robot: {start: [1.5, 1.0, 0.0]}\n')

@@ -12,3 +12,41 @@ def merged(base, over):
         else:
             out[key] = value
     return out
+
+
+def simulated_robot(tree):
+    """sim/world/robot of a merged config with the geometry the simulator takes from the robot's
+    description (/robot) where the simulated robot sets none of its own: radius, footprint, wheel_radius,
+    wheel_base (/robot/track_width), the driven wheels' encoders' ticks_per_rev
+    (/robot/encoder_ticks_per_rev) and each ranger's mount (the link ranger_NAME's [x, y, yaw]).
+    The twin of robot_sim's parseRobot; {} when the config simulates no robot."""
+    world = ((tree.get('sim') or {}).get('world') or {})
+    if not isinstance(world.get('robot'), dict):
+        return {}
+    robot = dict(world['robot'])
+    described = tree.get('robot') or {}
+    for key, source in (('radius', 'radius'), ('footprint', 'footprint'), ('wheel_radius', 'wheel_radius'),
+                        ('wheel_base', 'track_width')):
+        if key not in robot and source in described:
+            robot[key] = described[source]
+    motors = robot.get('motors') or {}
+    encoders = {}
+    for name, e in (robot.get('encoders') or {}).items():
+        e = dict(e or {})
+        driven = (motors.get(e.get('motor')) or {}).get('drive')
+        if driven and 'ticks_per_rev' not in e and 'encoder_ticks_per_rev' in described:
+            e['ticks_per_rev'] = described['encoder_ticks_per_rev']
+        encoders[name] = e
+    if encoders:
+        robot['encoders'] = encoders
+    links = described.get('links') or {}
+    rangers = {}
+    for name, g in (robot.get('rangers') or {}).items():
+        g = dict(g or {})
+        at = (links.get('ranger_' + name) or {}).get('at')
+        if 'mount' not in g and isinstance(at, list) and len(at) in (3, 6):
+            g['mount'] = [at[0], at[1], at[5] if len(at) == 6 else 0.0]
+        rangers[name] = g
+    if rangers:
+        robot['rangers'] = rangers
+    return robot

@@ -7,7 +7,13 @@ holds this point" (the match runner's colour, the 2008 strategy's).
 
 The side switch: a HumanInterface device's `side_switch: {input: NAME}` reads a board input that
 the simulator wires to the world switch of the same name (sim/world/robot/switches/NAME); open
-means the first of its `sides`, closed the second."""
+means the first of its `sides`, closed the second.
+
+side_overlay sets all four from one choice, the zone to play from (make run SIDE=green): the
+parameters that put the simulated robot, its initial_pose, its side switch and the opponent
+where that zone says."""
+
+import math
 
 
 def zone_of(point, zones):
@@ -78,4 +84,63 @@ def errors(tree):
             out.append('parameter /sim/world/opponent/start = %s: in %s but %s; allowed: a pose in the other '
                        'start zone (%s)' % (list(opponent['start']), 'the %s zone too' % theirs if theirs else
                                             'no start zone', where, _zones_text(others)))
+    return out
+
+
+def _mirrored(pose, length):
+    """A pose mirrored across the table's middle (x = length / 2): the other side's start."""
+    theta = math.pi - float(pose[2]) if len(pose) > 2 else math.pi
+    return [round(length - float(pose[0]), 6), float(pose[1]), round(math.atan2(math.sin(theta), math.cos(theta)), 5)]
+
+
+def _place_in(zone, pose, length, width):
+    """`pose` if it lies in `zone`, its mirror image if that does, else the zone's centre facing
+    the table's centre."""
+    zones = [zone]
+    if zone_of(pose, zones):
+        return [float(v) for v in pose[:3]]
+    mirror = _mirrored(pose, length)
+    if zone_of(mirror, zones):
+        return mirror
+    x0, y0, x1, y1 = (float(v) for v in zone['rect'])
+    cx, cy = (x0 + x1) / 2.0, (y0 + y1) / 2.0
+    return [cx, cy, round(math.atan2(width / 2.0 - cy, length / 2.0 - cx), 5)]
+
+
+def side_overlay(tree, side):
+    """The overlay that plays `side` (a start zone's name) in a simulated match: the simulated
+    robot's start, each Localization's initial_pose, each HumanInterface's side switch and the
+    opponent's start, all agreeing with the zone (errors() finds none in the merged result).
+    Raises ValueError with one line when the config has no such zone or the HMI no such side."""
+    table = tree.get('table') or {}
+    zones = [z for z in (table.get('start_zones') or []) if isinstance(z, dict) and 'name' in z and 'rect' in z]
+    names = [z['name'] for z in zones]
+    if side not in names:
+        raise ValueError('SIDE=%s: allowed values: %s (the start zones, /table/start_zones)'
+                         % (side, ', '.join(names) if names else 'none: this config has no start zones'))
+    length, width = float(table.get('length', 3.0)), float(table.get('width', 2.1))
+    zone = zones[names.index(side)]
+    world = ((tree.get('sim') or {}).get('world') or {})
+    robot = world.get('robot') or {}
+    start = _place_in(zone, robot.get('start') if _pose(robot.get('start')) else [0.25, 1.8, 0.0], length, width)
+    out = {'sim': {'world': {'robot': {'start': start}}}}
+    for name, hmi in blocks_of_type(tree, 'hal', 'HumanInterface'):
+        sides, switch = hmi.get('sides'), (hmi.get('side_switch') or {}).get('input')
+        if not switch:
+            continue
+        if not (isinstance(sides, list) and side in sides):
+            raise ValueError('SIDE=%s: /hal/%s/sides = %s does not name it: the side switch cannot say %s'
+                             % (side, name, sides, side))
+        switches = out['sim']['world']['robot'].setdefault('switches', {})
+        switches[switch] = {'closed': sides.index(side) == 1}
+    for name, loc in blocks_of_type(tree, 'hal', 'Localization'):
+        if _pose(loc.get('initial_pose')):  # else it starts lost on purpose
+            out.setdefault('hal', {})[name] = {'initial_pose': list(start)}
+    opponent = world.get('opponent') or {}
+    others = [z for z in zones if z['name'] != side]
+    if others and _pose(opponent.get('start')):
+        theirs = opponent['start']
+        if zone_of(theirs, others) is None:
+            theirs = _place_in(others[0], theirs, length, width)
+        out['sim']['world']['opponent'] = {'start': [float(v) for v in theirs[:3]]}
     return out

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace robot_sim {
 namespace {
@@ -116,22 +117,47 @@ TableConfig parseTable(const Params& n) {
   return t;
 }
 
-RobotConfig parseRobot(const Params& n) {
+// A geometry value of the simulated robot: its own (sim/world/robot/KEY) where it sets one, else
+// the robot's description (/robot/DESCRIBED), else the default.
+double described(const Params& n, const std::string& key, const Params& robot, const std::string& described_key,
+                 double def) {
+  if (n.has(key)) return positive(n, key, def);
+  return positive(robot, described_key, def);
+}
+
+// A ranger's mount [x, y, yaw] in base_link from its link ranger_NAME of the description
+// (/robot/links/ranger_NAME/at: [x, y, z] or [x, y, z, roll, pitch, yaw], hung on base_link).
+std::optional<Pose2D> describedMount(const Params& robot, const std::string& ranger) {
+  const std::string link = "links/ranger_" + ranger;
+  if (!robot.has(link)) return std::nullopt;
+  const Params l = robot[link];
+  const std::string parent = str(l, "parent", "base_link");
+  if (parent != "base_link")
+    fail(l, "parent", "= '" + parent + "': the simulator mounts a ranger on base_link; give " +
+                          "sim/world/robot/rangers/" + ranger + "/mount instead");
+  const auto at = numbers(l, "at", 3, 6);
+  if (at.size() != 3 && at.size() != 6) fail(l, "at", "must be [x, y, z] or [x, y, z, roll, pitch, yaw]");
+  return Pose2D{at[0], at[1], at.size() == 6 ? at[5] : 0.0};
+}
+
+RobotConfig parseRobot(const Params& n, const Params& robot) {
   RobotConfig r;
   r.start = pose(n, "start", r.start);
-  r.radius = positive(n, "radius", r.radius);
-  if (n.has("footprint")) {
-    const auto rows = n.optionalDoubleRows("footprint", 2);
-    if (rows.size() < 3) fail(n, "footprint", "must be a list of at least 3 vertices [x, y] in base_link, in order around the outline");
+  r.radius = described(n, "radius", robot, "radius", r.radius);
+  const Params& outline = n.has("footprint") ? n : robot;  // the simulated robot's own, else the description's
+  if (outline.has("footprint")) {
+    const auto rows = outline.optionalDoubleRows("footprint", 2);
+    if (rows.size() < 3)
+      fail(outline, "footprint", "must be a list of at least 3 vertices [x, y] in base_link, in order around the outline");
     for (const auto& row : rows) r.footprint.push_back({row[0], row[1]});
     try {
       Footprint check(r.footprint);
     } catch (const ConfigError& e) {
-      fail(n, "footprint", std::string(e.what()).substr(std::string("footprint: ").size()));
+      fail(outline, "footprint", std::string(e.what()).substr(std::string("footprint: ").size()));
     }
   }
-  r.wheel_radius = positive(n, "wheel_radius", r.wheel_radius);
-  r.wheel_base = positive(n, "wheel_base", r.wheel_base);
+  r.wheel_radius = described(n, "wheel_radius", robot, "wheel_radius", r.wheel_radius);
+  r.wheel_base = described(n, "wheel_base", robot, "track_width", r.wheel_base);
   for (const auto& [name, m] : entries(n, "motors")) {
     MotorConfig c;
     c.drive = oneOf(m, "drive", "", {"left", "right", ""});
@@ -161,7 +187,9 @@ RobotConfig parseRobot(const Params& n) {
       c.y = num(e, "y", 0.0);
       c.radius = positive(e, "radius", 0.03);
     }
-    c.ticks_per_rev = positive(e, "ticks_per_rev", 512);
+    const bool driven_wheel = !c.motor.empty() && !r.motors[c.motor].drive.empty();
+    c.ticks_per_rev = driven_wheel ? described(e, "ticks_per_rev", robot, "encoder_ticks_per_rev", 512)
+                                   : positive(e, "ticks_per_rev", 512);
     c.sign = static_cast<int>(integer(e, "sign", 1));
     if (c.sign != 1 && c.sign != -1) fail(e, "sign", "allowed values: 1, -1");
     r.encoders[name] = c;
@@ -170,7 +198,7 @@ RobotConfig parseRobot(const Params& n) {
     RangerConfig c;
     c.type = oneOf(g, "type", "srf02", {"srf02", "sharp"});
     const bool sharp = c.type == "sharp";
-    c.mount = pose(g, "mount", Pose2D{});
+    c.mount = g.has("mount") ? pose(g, "mount", Pose2D{}) : describedMount(robot, name).value_or(Pose2D{});
     c.min_range = nonNegative(g, "min_range", sharp ? 0.10 : 0.03);
     c.max_range = positive(g, "max_range", sharp ? 0.80 : 6.0);
     if (c.max_range <= c.min_range) fail(g, "max_range", "must be > min_range");
@@ -255,15 +283,16 @@ RobotConfig parseRobot(const Params& n) {
 }  // namespace
 
 WorldConfig parseWorldConfig(const XmlRpc::XmlRpcValue& world, const std::string& world_ns,
-                             const XmlRpc::XmlRpcValue& table, const std::string& table_ns) {
-  return parseWorldConfig(Params(world, world_ns), Params(table, table_ns));
+                             const XmlRpc::XmlRpcValue& table, const std::string& table_ns,
+                             const XmlRpc::XmlRpcValue& robot, const std::string& robot_ns) {
+  return parseWorldConfig(Params(world, world_ns), Params(table, table_ns), Params(robot, robot_ns));
 }
 
-WorldConfig parseWorldConfig(const Params& w, const Params& table) {
+WorldConfig parseWorldConfig(const Params& w, const Params& table, const Params& robot) {
   WorldConfig c;
   c.table = parseTable(table);
   c.dt = inRange(w, "dt", c.dt, 1e-4, 0.02);
-  c.robot = parseRobot(w.block("robot"));
+  c.robot = parseRobot(w.block("robot"), robot);
 
   const Params cp = w.block("compass");
   c.compass.north_deg = num(cp, "north_deg", c.compass.north_deg);

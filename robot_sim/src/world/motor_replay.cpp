@@ -33,9 +33,10 @@ int main(int argc, char** argv) {
   }
   try {
     XmlRpc::XmlRpcValue root(xml, &offset);
-    XmlRpc::XmlRpcValue world, table = root["table"];
+    XmlRpc::XmlRpcValue world, robot, table = root["table"];
     if (root.hasMember("sim") && root["sim"].hasMember("world")) world = root["sim"]["world"];
-    const auto config = robot_sim::parseWorldConfig(world, "/sim/world", table, "/table");
+    if (root.hasMember("robot")) robot = root["robot"];
+    const auto config = robot_sim::parseWorldConfig(world, "/sim/world", table, "/table", robot, "/robot");
     const auto found = config.robot.motors.find(argv[2]);
     if (found == config.robot.motors.end()) {
       std::fprintf(stderr, "motor_replay: no motor '%s' in /sim/world/robot/motors\n", argv[2]);

@@ -7,15 +7,17 @@
 namespace robot_sim {
 
 WorldConfig loadWorldConfig(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
-  XmlRpc::XmlRpcValue world, table;
+  XmlRpc::XmlRpcValue world, table, robot;
   pnh.getParam("world", world);  // missing: every default (the schema has one for each)
   nh.getParam("table", table);
+  nh.getParam("robot", robot);  // the robot as built: the simulated robot's geometry
   // One match length for the robot and the referee: the brain's, unless the world sets its own.
   XmlRpc::XmlRpcValue brain_duration;
   if (nh.getParam("brain/match/duration", brain_duration) && world.getType() != XmlRpc::XmlRpcValue::TypeInvalid &&
       !(world.hasMember("match") && world["match"].hasMember("duration")))
     world["match"]["duration"] = brain_duration;
-  return parseWorldConfig(world, pnh.resolveName("world"), table, nh.resolveName("table"));
+  return parseWorldConfig(world, pnh.resolveName("world"), table, nh.resolveName("table"), robot,
+                          nh.resolveName("robot"));
 }
 
 namespace {

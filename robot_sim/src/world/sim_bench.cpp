@@ -88,9 +88,10 @@ int main(int argc, char** argv) {
   XmlRpc::XmlRpcValue root(xml, &offset);
   const double seconds = argc > 2 ? std::atof(argv[2]) : 100.0;
   try {
-    XmlRpc::XmlRpcValue world, table = root["table"];
+    XmlRpc::XmlRpcValue world, robot, table = root["table"];
     if (root.hasMember("sim") && root["sim"].hasMember("world")) world = root["sim"]["world"];
-    const auto config = robot_sim::parseWorldConfig(world, "/sim/world", table, "/table");
+    if (root.hasMember("robot")) robot = root["robot"];
+    const auto config = robot_sim::parseWorldConfig(world, "/sim/world", table, "/table", robot, "/robot");
     long reads = 0;
     const double step_only = runWorld(config, seconds, false, &reads);
     const double with_sensors = runWorld(config, seconds, true, &reads);

@@ -215,11 +215,19 @@ struct WorldConfig {
   MatchConfig match;
 };
 
-// Reads `world` (the /sim/world dictionary) and `table` (the /table dictionary). `world_ns` and
-// `table_ns` are their resolved names, for error messages. Throws ConfigError.
+// Reads `world` (the /sim/world dictionary), `table` (the /table dictionary) and `robot` (the
+// /robot dictionary: the robot as built, config/<robot>.yaml). The simulated robot takes its
+// geometry from `robot` (radius, footprint, wheel_radius, track_width as the wheel base, encoder_ticks_per_rev
+// for the driven wheels' encoders, each ranger's mount from its link ranger_NAME) unless
+// sim/world/robot sets its own value: a simulated robot that differs from its description on
+// purpose (a calibration test's "true" robot, make calibrate's fitted simulator). The *_ns
+// arguments are the resolved names, for error messages. Throws ConfigError.
 WorldConfig parseWorldConfig(const XmlRpc::XmlRpcValue& world, const std::string& world_ns,
-                             const XmlRpc::XmlRpcValue& table, const std::string& table_ns);
+                             const XmlRpc::XmlRpcValue& table, const std::string& table_ns,
+                             const XmlRpc::XmlRpcValue& robot = XmlRpc::XmlRpcValue(),
+                             const std::string& robot_ns = "/robot");
 // The same from readers already placed (Params::fromYamlFile of a robot's files in a test).
-WorldConfig parseWorldConfig(const robot_core::Params& world, const robot_core::Params& table);
+WorldConfig parseWorldConfig(const robot_core::Params& world, const robot_core::Params& table,
+                             const robot_core::Params& robot = robot_core::Params());
 
 }  // namespace robot_sim
