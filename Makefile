@@ -198,10 +198,10 @@ scheduler: deps
 	DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=1 dask scheduler --port 8786 --dashboard-address :8787
 worker: build
 	@test -n "$(CLUSTER)" || { echo "make worker: CLUSTER=tcp://HOST:8786 (the scheduler's address)"; exit 2; }
-	$(SETUP) && PYTHONPATH=$(ROOT)/scripts:$$PYTHONPATH dask worker $(CLUSTER) --nthreads 1 \
+	$(SETUP) && dask worker $(CLUSTER) --nthreads 1 \
 	  --nworkers $(or $(WORKERS),$$(( $$(nproc) > 3 ? $$(nproc) / 2 : 1 ))) --local-directory /tmp/robot_matches
 
-# N seeded matches with a fault schedule each (scripts/run_chaos.py, scripts/chaos_faults.py).
+# N seeded matches with a fault schedule each (scripts/run_chaos.py, robot_tools.chaos.faults).
 .PHONY: chaos
 chaos: build
 	@$(CHECK_CONFIG)

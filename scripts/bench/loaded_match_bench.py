@@ -23,12 +23,12 @@ import subprocess
 import sys
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import chaos_invariants  # noqa: E402
-import false_alarms  # noqa: E402
-import run_match  # noqa: E402
-import run_matches  # noqa: E402
-from match_report import Match  # noqa: E402
+from robot_tools.chaos import invariants as chaos_invariants
+from robot_tools.matches import false_alarms
+from robot_tools.matches import run_match
+from robot_tools.matches import match_config
+from robot_tools.matches import match_rows
+from robot_tools.report.match_report import Match
 
 ROBOT = 'eurobot2009'
 POSE_STALE = 0.5  # [s] of simulated time without an estimate: the localization went stale
@@ -79,14 +79,14 @@ def main():
     m = Match(bag)
     start, _ = m.start_signal()
     end = m.match_end() or m.end
-    config = run_matches.robot_config(ROBOT)
+    config = match_config.robot_config(ROBOT)
     alarms = false_alarms.false_alarms(chaos_invariants.statuses(m), start, end, [], start, config)
     for _, text in alarms:
         print('  ' + text)
     lost = lost_seconds(m, start, end)
     gap = pose_gap_max(m, start, end)
     factor = float('nan')
-    began, ended = run_matches.match_span(os.path.join(args.out, ROBOT + '_launch.log'))
+    began, ended = match_rows.match_span(os.path.join(args.out, ROBOT + '_launch.log'))
     if began is not None and ended is not None and ended[0] > began[0]:
         factor = (ended[1] - began[1]) / (ended[0] - began[0])
     print('targets: lost_s 0, pose_gap_max_s < %.1f, errors 0' % POSE_STALE)

@@ -15,9 +15,9 @@ start=$(date +%s.%N)
 python3 "$root/scripts/run_match.py" eurobot2009 --real-time-factor 0 --out "$tmp/f0" > "$tmp/f0.log" 2>&1 || true
 end=$(date +%s.%N)
 grep -E "referee|never|ended" "$tmp/f0.log" | sed 's/^/  /' || true
-PYTHONPATH="$root/scripts:${PYTHONPATH:-}" python3 - "$tmp/f0/eurobot2009_launch.log" "$start" "$end" <<'PY'
+python3 - "$tmp/f0/eurobot2009_launch.log" "$start" "$end" <<'PY'
 import sys
-from run_matches import match_span
+from robot_tools.matches.match_rows import match_span
 log, start, end = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
 begin, finish = match_span(log)  # the brain's match start and end, [wall, simulated]
 if begin and finish:

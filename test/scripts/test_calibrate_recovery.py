@@ -32,10 +32,9 @@ from robot_core.config_tree import simulated_robot
 from match_runner import run_runner  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import calibration_fit as cf  # noqa: E402
-import calibration_signals as sig  # noqa: E402
-import run_matches  # noqa: E402
+from robot_tools.calibration import fit as cf
+from robot_tools.calibration import signals as sig
+from robot_tools.matches import match_config
 
 ROBOT = 'eurobot2009'
 STRATEGY = 'calibration'
@@ -89,7 +88,7 @@ class CalibrateRecoveryTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('test_calibrate_recovery')
         cls.factor = float(rospy.get_param('~factor', 0.0))
-        cls.config = run_matches.robot_config(ROBOT)
+        cls.config = match_config.robot_config(ROBOT)
         cls.tmp = tempfile.mkdtemp(prefix='calibrate_recovery_')
 
     @classmethod
@@ -100,9 +99,9 @@ class CalibrateRecoveryTest(unittest.TestCase):
         folder = os.path.join(self.tmp, 'seed%d' % seed)
         os.makedirs(folder)
         world = changed_world(self.config, change)
-        overlay = run_matches.with_duration(
-            run_matches.merged({'sim': {'world': world}}, {'sim': {'world': {'opponent': {'enabled': False}}}}), DURATION)
-        overlay_path = run_matches.write_overlay(folder, overlay)
+        overlay = match_config.with_duration(
+            match_config.merged({'sim': {'world': world}}, {'sim': {'world': {'opponent': {'enabled': False}}}}), DURATION)
+        overlay_path = match_config.write_overlay(folder, overlay)
         rc, output = run_runner([sys.executable, os.path.join(ROOT, 'scripts', 'run_match.py'), ROBOT, '--out', folder,
                                  '--seed', str(seed), '--real-time-factor', repr(self.factor), '--strategy', STRATEGY,
                                  '--overlay', overlay_path], 600.0)
@@ -123,7 +122,7 @@ class CalibrateRecoveryTest(unittest.TestCase):
     def check_case(self, seed, change):
         bag, world, robot, sim, output = self.record_and_calibrate(seed, change)
         base = self.config['sim']['world']
-        true_world = run_matches.merged(base, world)
+        true_world = match_config.merged(base, world)
         truth = simulated_robot({'robot': self.config['robot'], 'sim': {'world': true_world}})
 
         # the robot's geometry: what the changed simulator's wheels count per metre, its wheel base

@@ -44,10 +44,9 @@ class ChaosSmokeTest(unittest.TestCase):
             shutil.rmtree(cls.out, ignore_errors=True)  # bags; kept for a look when it failed
 
     def test_every_fault_class_of_the_robot_is_scheduled(self):
-        sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-        import chaos_faults
-        import run_matches
-        classes = set(chaos_faults.catalogue(run_matches.robot_config(ROBOT)))
+        from robot_tools.chaos import faults as chaos_faults
+        from robot_tools.matches import match_config
+        classes = set(chaos_faults.catalogue(match_config.robot_config(ROBOT)))
         scheduled = {f['class'] for match in self.schedule for f in match}
         self.assertEqual(classes - scheduled, set(), 'fault classes the schedule misses')
 

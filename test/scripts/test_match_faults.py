@@ -14,11 +14,10 @@ Checked:
 - ~score_after (a match time, or absent): our score grows after it;
 - ~replan_within (with ~park_opponent): a goal the driver ended BLOCKED is followed by a goal
   to another place within that many seconds;
-- no idle stretch (scripts/idle_time.py) over 10 s while more than 10 s of the match remain.
+- no idle stretch (robot_tools.matches.idle_time) over 10 s while more than 10 s of the match remain.
 """
 import math
 import os
-import sys
 import threading
 import time
 import unittest
@@ -34,9 +33,8 @@ from smart_brain.msg import MatchStatus
 from std_srvs.srv import Trigger
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-from fault_injector import kidnap  # noqa: E402
-from idle_time import idle_stretches, too_long  # noqa: E402
+from robot_tools.chaos.injector import kidnap
+from robot_tools.matches.idle_time import idle_stretches, too_long
 
 
 def note(fmt, *args):

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Product nodes killed mid-match come back where they were (test/launch/match_respawn_*.test):
 one simulated match of the `match` strategy, as fast as the machine goes, with `kill -9` of
-hcl_node, hal_node and the brain at the ~kills match times (scripts/fault_injector.py), and the
+hcl_node, hal_node and the brain at the ~kills match times (robot_tools.chaos.injector), and the
 brain killed again just before the end so that it is dead when the match ends. roslaunch
 respawns each one (launch/<robot>.launch: respawn, respawn_delay).
 
@@ -20,7 +20,6 @@ Checked, one case per node:
 """
 import math
 import os
-import sys
 import tempfile
 import threading
 import time
@@ -36,8 +35,7 @@ from std_msgs.msg import Bool
 from std_srvs.srv import Trigger
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-from fault_injector import FaultInjector  # noqa: E402
+from robot_tools.chaos.injector import FaultInjector
 
 MOVED = 0.05  # [m] of true displacement that counts as driving
 

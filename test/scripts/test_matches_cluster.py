@@ -69,8 +69,7 @@ class MatchesClusterTest(unittest.TestCase):
         env = dict(os.environ, DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES='1')
         cls.start('scheduler', NS_SCHEDULER, ['dask', 'scheduler', '--host', SCHEDULER_IP, '--port', '8786',
                                                '--no-dashboard'], env)
-        worker_env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, 'scripts') + ':' + os.environ.get('PYTHONPATH', ''),
-                          ROS_IP='127.0.0.1')  # each match's own master is on the worker's loopback
+        worker_env = dict(os.environ, ROS_IP='127.0.0.1')  # each match's own master is on the worker's loopback
         for name in ('worker_a', 'worker_b'):
             cls.start(name, NS_WORKERS, ['dask', 'worker', ADDRESS, '--host', WORKERS_IP, '--nthreads', '1',
                                          '--nworkers', '1', '--name', name, '--no-dashboard',

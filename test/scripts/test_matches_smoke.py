@@ -99,12 +99,12 @@ class MatchesSmokeTest(unittest.TestCase):
                                 for l in lines), 'no results line for %s' % kind)
 
     def test_bags_hold_every_topic_the_readers_look_for(self):
-        sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-        import match_report
-        import run_chaos
-        import run_matches
+        from robot_tools.report import match_report
+        from robot_tools.chaos import run_chaos
+        from robot_tools.matches import match_config
+        from robot_tools.matches import match_rows
         import rosbag
-        config = run_matches.robot_config(ROBOT)
+        config = match_config.robot_config(ROBOT)
         topics, exclude = recorder_selection()
         asked = set()
         opened = match_report.Match.__init__
@@ -118,7 +118,7 @@ class MatchesSmokeTest(unittest.TestCase):
                 folder = os.path.join(self.out, '%s_seed%d' % (ROBOT, seed))
                 bag = os.path.join(folder, ROBOT + '_match.bag')
                 asked.clear()
-                run_matches.analyse(seed, 'random_walk', folder, ROBOT, config, 0, 0.0)
+                match_rows.analyse(seed, 'random_walk', folder, ROBOT, config, 0, 0.0)
                 run_chaos.judge(folder, ROBOT, config, 0)
                 match_report.report(bag, os.path.join(self.out, 'asked.png'))
                 # What the readers look for is what the recorder keeps (a topic published only on an

@@ -26,8 +26,7 @@ import yaml
 import netns_pair  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import robot_install  # noqa: E402  the installer's own rules
+from robot_tools.install import robot_install  # the installer's own rules
 
 PID = os.getpid()
 NET = '10.214.%d' % (PID % 250)

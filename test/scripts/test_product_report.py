@@ -294,8 +294,7 @@ class ReportTest(unittest.TestCase):
         self.assertEqual(s['driver goals'], 'absent')
 
     def test_driver_goals_and_match_time(self):
-        sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-        import match_report
+        from robot_tools.report import match_report
         bag = os.path.join(self.tmp, 'match.bag')
         write_match(bag)
         m = match_report.Match(bag)
@@ -310,8 +309,7 @@ class ReportTest(unittest.TestCase):
         self.assertEqual([(k, x, y) for k, x, y, _, _ in end], [('column', 1.5, 1.8), ('ball_red', 1.5, 0.5)])
 
     def test_brain_state_chain(self):
-        sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-        import match_report
+        from robot_tools.report import match_report
         bag = os.path.join(self.tmp, 'match.bag')
         write_match(bag)
         topic, states = match_report.Match(bag).brain_states()

@@ -21,8 +21,7 @@ import yaml
 from match_runner import run_runner  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import tune  # noqa: E402
+from robot_tools.tuning import tune
 
 ROBOT = 'eurobot2009'
 CLOSING = re.compile(r'^trials (?P<t>\d+) best_score (?P<b>\S+) baseline_score (?P<s>\S+) improvement (?P<d>\S+) '
@@ -62,7 +61,7 @@ class TuneSmokeTest(unittest.TestCase):
         done = [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
         self.assertEqual(len(done), 2)
         params, _ = tune.load_space(ROBOT)
-        self.assertEqual(study.trials[0].params, tune.shipped_point(params, tune.run_matches.robot_config(ROBOT)))
+        self.assertEqual(study.trials[0].params, tune.shipped_point(params, tune.match_config.robot_config(ROBOT)))
 
     def test_3_best_overlay_and_figure(self):
         with open(os.path.join(self.out, ROBOT + '_best.yaml')) as f:

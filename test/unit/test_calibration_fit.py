@@ -1,16 +1,14 @@
-"""The estimators of make calibrate (scripts/calibration_fit.py) on synthetic signals with a known
+"""The estimators of make calibrate (robot_tools.calibration.fit) on synthetic signals with a known
 answer: the geometry of a robot whose wheels differ from its config, a motor's speed at full
 PWM, time constant and dead band, the wheels' slip, a ranger's bias and noise."""
 import math
 import os
-import sys
 import unittest
 
 import numpy as np
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import calibration_fit as cf  # noqa: E402
+from robot_tools.calibration import fit as cf
 
 
 def drive(tpm_l, tpm_r, track, seconds=90.0, rate=100.0, seed=1):
@@ -104,7 +102,7 @@ class MotorTest(unittest.TestCase):
 
 class ReplayTest(unittest.TestCase):
     def test_counts_error_by_window_with_contacts_left_out(self):
-        import calibration_replay as replay
+        from robot_tools.calibration import replay
         recorded = np.array([100.0, 200.0, -150.0, 300.0, 250.0, 180.0, 120.0, 90.0])
         self.assertAlmostEqual(replay.counts_error(recorded, -recorded)[0], 0.0)  # the encoder's sign is free
         off, kept, left_out = replay.counts_error(recorded, recorded * 1.05)

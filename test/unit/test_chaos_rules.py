@@ -1,15 +1,13 @@
-"""The chaos runner's fault schedules and invariants (scripts/chaos_faults.py,
-scripts/chaos_invariants.py) on made-up matches: each invariant catches what it must and lets
+"""The chaos runner's fault schedules and invariants (robot_tools.chaos.faults,
+robot_tools.chaos.invariants) on made-up matches: each invariant catches what it must and lets
 pass what it must. No ROS master, no simulation."""
 import os
-import sys
 import unittest
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import chaos_faults  # noqa: E402
-import chaos_invariants as inv  # noqa: E402
-from run_matches import robot_config  # noqa: E402
+from robot_tools.chaos import faults as chaos_faults
+from robot_tools.chaos import invariants as inv
+from robot_tools.matches.match_config import robot_config
 
 ISSUE_CLASSES = {'board_silent', 'can_bus_off', 'can_reset', 'can_malformed', 'serial_garbage', 'serial_truncate',
                  'beacon_silent', 'wheel_slip', 'kidnap', 'opponent_blocks', 'kill_hcl', 'kill_hal', 'kill_brain',

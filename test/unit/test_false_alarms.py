@@ -1,15 +1,13 @@
-"""The false-alarm invariant (scripts/false_alarms.py) on recorded statuses: what it catches (an
+"""The false-alarm invariant (robot_tools.matches.false_alarms) on recorded statuses: what it catches (an
 ERROR or STALE during the match that no injected fault explains) and what it excuses (the
 start-up, the stop, a fault's own status, what is computed from it, within its allowance).
 The messages are as the boards, devices and process_watch wrote them in recorded matches."""
 import os
-import sys
 import unittest
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import false_alarms as fa  # noqa: E402
-from run_matches import robot_config  # noqa: E402
+from robot_tools.matches import false_alarms as fa
+from robot_tools.matches.match_config import robot_config
 
 OK, WARN, ERROR, STALE = 0, 1, 2, 3
 START, END = 3.0, 93.0  # bag times of the start signal and the match end

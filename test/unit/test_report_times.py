@@ -3,13 +3,11 @@ header stamp when it is on the bag's clock, the bag time when it is on another o
 probes on the wall clock and stamps its diagnostics with epoch seconds in a simulated match); and a
 goal that never ended does not stop the report's goal spans."""
 import os
-import sys
 import unittest
 from types import SimpleNamespace
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-from match_report import Match, stamp_of  # noqa: E402
+from robot_tools.report.match_report import Match, stamp_of
 
 
 class Time(object):

@@ -17,8 +17,7 @@ import yaml
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 SCRIPT = os.path.join(ROOT, 'scripts', 'robot_install.py')
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import robot_install  # noqa: E402
+from robot_tools.install import robot_install
 
 ENV = dict(os.environ, PATH='/usr/bin:/bin:/usr/sbin:/sbin:' + os.environ.get('PATH', ''))
 

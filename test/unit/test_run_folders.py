@@ -1,15 +1,13 @@
-"""Reports are kept (scripts/run_folders.py): each run writes to a folder of its own, `latest` points
+"""Reports are kept (robot_tools.matches.run_folders): each run writes to a folder of its own, `latest` points
 to the last complete one, and a run that failed keeps what it wrote, says why in INCOMPLETE and
 leaves `latest` on the last good report."""
 import os
 import shutil
-import sys
 import tempfile
 import unittest
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import run_folders  # noqa: E402
+from robot_tools.matches import run_folders
 
 
 class RunFoldersTest(unittest.TestCase):

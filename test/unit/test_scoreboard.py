@@ -2,15 +2,13 @@
 figures and their 95 % intervals, and each target met or how far off. No ROS, no simulation."""
 import math
 import os
-import sys
 import tempfile
 import unittest
 
 import yaml
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import scoreboard  # noqa: E402
+from robot_tools.matches import scoreboard
 
 # As run_matches.py writes it (its table_lines and closing_line).
 RUN = """seed opponent    ours  opp result contacts triggers stuck stalls in_contact false_alarms loc_rmse_m loc_max_m idle_s idle_max_s eff_off_s wall_s

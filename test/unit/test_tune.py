@@ -1,16 +1,15 @@
-"""scripts/tune_objective.py and scripts/tune.py's parameter handling on made-up rows: the
+"""robot_tools.tuning.objective and scripts/tune.py's parameter handling on made-up rows: the
 penalties, a broken invariant that sinks a trial, the paired verdict, the declared space of
 config/tune/eurobot2009.yaml against the robot's config. No ROS master, no simulation."""
 import math
 import os
-import sys
 import unittest
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'scripts'))
-import tune  # noqa: E402
-import tune_objective as objective  # noqa: E402
-from run_matches import MatchRow, robot_config  # noqa: E402
+from robot_tools.tuning import tune
+from robot_tools.tuning import objective
+from robot_tools.matches.match_rows import MatchRow
+from robot_tools.matches.match_config import robot_config
 
 WEIGHTS = {'contact_penalty': 0.5, 'invariant_penalty': 100.0}
 
@@ -77,7 +76,7 @@ class SpaceTest(unittest.TestCase):
     def test_a_verdict_arm_is_tabled_for_the_scoreboard(self):
         import shutil
         import tempfile
-        import scoreboard
+        from robot_tools.matches import scoreboard
         folder = tempfile.mkdtemp(prefix='test_tune_')
         try:
             rows = [row(12, seed=7)._replace(opponent='player', theirs=18, wall=40.0, idle=3.5, stalls=0),

@@ -1,5 +1,5 @@
 """What a match with injected faults must still do (`make chaos`, scripts/run_chaos.py), judged
-from its bag and the injector's log (scripts/fault_injector.py: each fault's actual start and
+from its bag and the injector's log (robot_tools.chaos.injector: each fault's actual start and
 end, simulated time). Every check returns violations as (time [s of match], text).
 
   no motor runs blind  a non-zero PWM on a motor board (the emulator's own state,
@@ -25,8 +25,8 @@ import bisect
 import collections
 import statistics
 
-from chaos_faults import expected_status
-from match_report import errors_against_truth, stamp_of
+from robot_tools.chaos.faults import expected_status
+from robot_tools.report.match_report import errors_against_truth, stamp_of
 
 NAMED_WITHIN = 1.0        # [s]
 CLEARED_WITHIN = 2.0      # [s]

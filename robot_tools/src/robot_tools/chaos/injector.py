@@ -1,7 +1,7 @@
 """Injects a fault schedule into a running simulated match (scripts/run_match.py --faults).
 
 A schedule is a list of faults, each {at: [s of match time], kind, target, duration [s],
-magnitude}; scripts/chaos_faults.py draws them and says what each kind means. Three ways in:
+magnitude}; robot_tools.chaos.faults draws them and says what each kind means. Three ways in:
 - bus and world faults go to the simulator's /sim/inject_fault at once, with their simulated
   start time: the simulator starts and clears them on its own clock, exactly on time;
 - `kidnap`: our robot moved `magnitude` metres toward the table's centre (/sim/teleport);
@@ -10,7 +10,7 @@ magnitude}; scripts/chaos_faults.py draws them and says what each kind means. Th
   XML-RPC (robot_core/node_probe.py). Their end is when the node answers again.
 
 Every fault's actual start and end (simulated time) is written to the log file as YAML, for the
-invariants (scripts/chaos_invariants.py). A process fault also gets `factor`, the simulated
+invariants (robot_tools.chaos.invariants). A process fault also gets `factor`, the simulated
 seconds per wall second while it lasted: what follows a restart (its publishers found by the
 recorder again) takes wall time, and the invariants allow it in wall time.
 """

@@ -4,7 +4,7 @@ config on seeds the study never saw. No Optuna, no ROS: unit-tested in test/unit
 A trial plays the same seeds against the same opponents as every other trial. Each match is
 worth our score, less `contact_penalty` per contact with the opponent, less
 `invariant_penalty` when it broke an invariant (a lost match, a robot off the table, effectors
-on after the end, a node died: run_matches.broken_invariants). The trial's value is the mean
+on after the end, a node died: match_rows.broken_invariants). The trial's value is the mean
 over its matches: one broken match in five costs invariant_penalty / 5, far more than any score,
 so a parameter set that breaks the robot sinks whatever it scores. Both weights are in
 config/tune/<robot>.yaml (`objective:`).

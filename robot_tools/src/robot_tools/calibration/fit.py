@@ -1,5 +1,5 @@
 """The estimators of `make calibrate` (scripts/calibrate.py): each one fits what a recorded match
-says about the robot, from plain arrays (scripts/calibration_signals.py reads them from a bag),
+says about the robot, from plain arrays (robot_tools.calibration.signals reads them from a bag),
 with an uncertainty. No ROS here: the tests feed them synthetic signals with a known answer.
 
   geometry      the driven wheels' ticks per metre (left, right) and the track width that make the

@@ -3,7 +3,7 @@ can suffer, drawn into a schedule per match, and what each one must show on /dia
 
 A fault is {at: [s of match time], kind, target, duration: [s], magnitude, class}; `at` and
 the simulated durations are in simulated time, `stall` lasts `duration` wall seconds (a process
-frozen is a wall-clock event). Kinds (scripts/fault_injector.py injects them):
+frozen is a wall-clock event). Kinds (robot_tools.chaos.injector injects them):
   on the buses   board_silent, can_bus_off, can_reset, can_malformed (a CAN board; the last two
                  are instants: the board reboots / sends one malformed frame), serial_garbage,
                  serial_truncate (the beacon receiver), beacon_silent (one beacon on the table),

@@ -16,7 +16,7 @@ import xmlrpc.client
 
 import numpy as np
 
-from calibration_fit import robust_mask
+from robot_tools.calibration.fit import robust_mask
 
 WINDOW = 1.0  # [s]
 
@@ -30,7 +30,7 @@ def motor_replay_binary():
         found = ''
     if found and os.access(found, os.X_OK):
         return found
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    from robot_tools.paths import ROOT as root
     for devel in ('devel', 'devel_isolated', 'install'):
         path = os.path.join(root, devel, 'lib', 'robot_sim', 'motor_replay')
         if os.access(path, os.X_OK):

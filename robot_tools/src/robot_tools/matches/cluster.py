@@ -2,7 +2,7 @@
 
 A match is one job: {robot, seed, opponent kind, factor, strategy, params}. `play` runs it on a
 worker: scripts/run_match.py on a ROS master, ports and temporary directory of its own
-(run_matches.run_one), then the row of figures and invariants from its bag (run_matches.analyse).
+(run_match.run_one), then the row of figures and invariants from its bag (match_rows.analyse).
 The row and the match's report (text and PNG) come back to the client, which writes them in
 OUT/ROBOT_seed<seed>/ as a local run does; the bag stays on the worker (its path is in the row)
 unless `fetch_bags`. On the local cluster the workers share this disk, so the whole folder,
@@ -32,7 +32,9 @@ import tempfile
 import time
 import uuid
 
-import run_matches
+from robot_tools.matches import match_config
+from robot_tools.matches import match_rows
+from robot_tools.matches import run_match
 
 EVENT_TOPIC = 'matches'
 RETRIES = 1  # a match whose worker died runs once more, elsewhere
@@ -55,12 +57,8 @@ def local_cluster(workers=None):
 
 def connect(address=None, workers=None):
     """(client, cluster or None): to the scheduler at `address` (tcp://HOST:8786), or to a new
-    local cluster. The workers import this module by name: scripts/ goes on their path."""
+    local cluster. The workers import this module by name (robot_tools, from the sourced workspace)."""
     from distributed import Client
-    scripts = os.path.dirname(os.path.abspath(__file__))
-    path = os.environ.get('PYTHONPATH', '')
-    if scripts not in path.split(os.pathsep):
-        os.environ['PYTHONPATH'] = scripts + (os.pathsep + path if path else '')  # local workers inherit it
     if address:
         client = Client(address, timeout=30)
         try:
@@ -105,15 +103,15 @@ def key_of(job):
 def play(job, index=1, n=1):
     """One match on this machine (a worker): its row, as a dict, and its report files."""
     _log_attempt(job)
-    config = run_matches.robot_config(job.robot)
-    overlay_params = run_matches.match_overlay(run_matches.opponent_params(job.opponent, config), job.params)
+    config = match_config.robot_config(job.robot)
+    overlay_params = match_config.match_overlay(match_config.opponent_params(job.opponent, config), job.params)
     folder = os.path.join(job.out, '%s_seed%d' % (job.robot, job.seed)) if job.shared_disk else \
         tempfile.mkdtemp(prefix='match_%s_seed%d_' % (job.robot, job.seed))
     os.makedirs(folder, exist_ok=True)
-    overlay = run_matches.write_overlay(folder, overlay_params)
+    overlay = match_config.write_overlay(folder, overlay_params)
     t0 = time.monotonic()
-    rc = run_matches.run_one(job.robot, job.seed, job.factor, folder, overlay, job.strategy, index, n)
-    row = run_matches.analyse(job.seed, job.opponent, folder, job.robot, run_matches.merged(config, overlay_params),
+    rc = run_match.run_one(job.robot, job.seed, job.factor, folder, overlay, job.strategy, index, n)
+    row = match_rows.analyse(job.seed, job.opponent, folder, job.robot, match_config.merged(config, overlay_params),
                               rc, time.monotonic() - t0)
     files = {}
     if not job.shared_disk:
@@ -132,9 +130,9 @@ def play(job, index=1, n=1):
 
 def lost_row(job, why):
     """The row of a match that never came back: every figure unknown, one violation."""
-    fields = {f: None for f in run_matches.MatchRow._fields}
+    fields = {f: None for f in match_rows.MatchRow._fields}
     fields.update(seed=job.seed, opponent=job.opponent, folder=None, wall=None, errors=[], violations=[why])
-    return run_matches.MatchRow(**fields)
+    return match_rows.MatchRow(**fields)
 
 
 def run_jobs(client, jobs, on_done=None):
@@ -166,7 +164,7 @@ def run_jobs(client, jobs, on_done=None):
                     with open(os.path.join(local, 'remote_bag.txt'), 'w') as f:
                         f.write('%s:%s\n' % (host, os.path.join(folder, '%s_match.bag' % job.robot)))
                 fields['folder'] = local
-            rows[k] = run_matches.MatchRow(**fields)
+            rows[k] = match_rows.MatchRow(**fields)
         if on_done:
             on_done(k, rows[k], retries(client, keys))
     return rows, retries(client, keys)
