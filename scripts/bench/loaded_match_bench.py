@@ -28,7 +28,7 @@ from robot_tools.matches import false_alarms
 from robot_tools.matches import run_match
 from robot_tools.matches import match_config
 from robot_tools.matches import match_rows
-from robot_tools.report.match_report import Match
+from robot_tools.report.match_bag import Match
 
 ROBOT = 'eurobot2009'
 POSE_STALE = 0.5  # [s] of simulated time without an estimate: the localization went stale

@@ -32,7 +32,7 @@ from robot_core.config_tree import simulated_robot
 from match_runner import run_runner  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-from robot_tools.calibration import fit as cf
+from robot_tools.calibration.geometry import Segments, odometry_drift
 from robot_tools.calibration import signals as sig
 from robot_tools.matches import match_config
 
@@ -75,12 +75,12 @@ def truth_segments(bag_path, config):
     truth = np.array(truth)
     tl, cl = s.encoders['left']
     tr, cr = s.encoders['right']
-    return cf.Segments(tl, cl, np.interp(tl, tr, cr), truth[:, 0], truth[:, 1], truth[:, 2], truth[:, 3], length=2.0)
+    return Segments(tl, cl, np.interp(tl, tr, cr), truth[:, 0], truth[:, 1], truth[:, 2], truth[:, 3], length=2.0)
 
 
 def truth_drift(segs, tpm_l, tpm_r, track):
     """[mm/m] the odometry with these values against the simulator's ground truth."""
-    return cf.odometry_drift(segs, tpm_l, tpm_r, track)
+    return odometry_drift(segs, tpm_l, tpm_r, track)
 
 
 class CalibrateRecoveryTest(unittest.TestCase):

@@ -99,7 +99,7 @@ class MatchesSmokeTest(unittest.TestCase):
                                 for l in lines), 'no results line for %s' % kind)
 
     def test_bags_hold_every_topic_the_readers_look_for(self):
-        from robot_tools.report import match_report
+        from robot_tools.report import match_bag, match_report
         from robot_tools.chaos import run_chaos
         from robot_tools.matches import match_config
         from robot_tools.matches import match_rows
@@ -107,12 +107,12 @@ class MatchesSmokeTest(unittest.TestCase):
         config = match_config.robot_config(ROBOT)
         topics, exclude = recorder_selection()
         asked = set()
-        opened = match_report.Match.__init__
+        opened = match_bag.Match.__init__
 
         def opened_and_watched(match, *args, **kwargs):  # every Match shares one record of what was asked
             opened(match, *args, **kwargs)
             match.asked = asked
-        match_report.Match.__init__ = opened_and_watched
+        match_bag.Match.__init__ = opened_and_watched
         try:
             for seed in range(SEED, SEED + N):
                 folder = os.path.join(self.out, '%s_seed%d' % (ROBOT, seed))
@@ -137,7 +137,7 @@ class MatchesSmokeTest(unittest.TestCase):
                     self.assertIn(topic, recorded, 'seed %d' % seed)
                 self.assertEqual(compressed, {'lz4'}, 'seed %d' % seed)
         finally:
-            match_report.Match.__init__ = opened
+            match_bag.Match.__init__ = opened
 
     def test_one_row_per_match(self):
         rows = [l for l in self.output.splitlines() if re.match(r'^\s*\d+ (random_walk|route|blocker) ', l)]

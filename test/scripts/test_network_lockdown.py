@@ -2,7 +2,7 @@
 """Nobody outside the robot drives it, in network namespaces of this machine, one "Wi-Fi":
   netns "robot"   (NET.1 on a bridge): the master and the skeleton robot (emulator, HCL, HAL,
                   brain, network guard), bound to its address (ROS_IP), behind the firewall
-                  make install-robot installs (scripts/robot_install.py firewall_rules, loaded
+                  make install-robot installs (robot_tools.install.host_files firewall_rules, loaded
                   with nft as the installer does)
   netns "laptop"  (NET.2): the team's laptop, on the config's allow-list
   netns "foreign" (NET.3): somebody else's laptop in the pits
@@ -26,7 +26,7 @@ import yaml
 import netns_pair  # beside this script
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-from robot_tools.install import robot_install  # the installer's own rules
+from robot_tools.install import host_files, plan  # the installer's own rules
 
 PID = os.getpid()
 NET = '10.214.%d' % (PID % 250)
@@ -131,7 +131,7 @@ class LockdownTest(unittest.TestCase):
         if on:
             rules = os.path.join(cls.tmp, 'robot.nft')
             with open(rules, 'w') as f:
-                f.write(robot_install.firewall_rules('skeleton', cls.network, robot_install.read_port_range()))
+                f.write(host_files.firewall_rules('skeleton', cls.network, plan.read_port_range()))
             run('robot', ['nft', '-f', rules], check=True)
         else:
             run('robot', ['nft', 'delete', 'table', 'inet', TABLE], check=True)

@@ -294,10 +294,10 @@ class ReportTest(unittest.TestCase):
         self.assertEqual(s['driver goals'], 'absent')
 
     def test_driver_goals_and_match_time(self):
-        from robot_tools.report import match_report
+        from robot_tools.report import match_bag
         bag = os.path.join(self.tmp, 'match.bag')
         write_match(bag)
-        m = match_report.Match(bag)
+        m = match_bag.Match(bag)
         self.assertEqual(m.start_signal(), (START, '/brain/match_status (running)'))
         goals = m.driver_goals()
         self.assertEqual([(g['action'], g['n'], g['status'], g['code']) for g in goals],
@@ -309,10 +309,10 @@ class ReportTest(unittest.TestCase):
         self.assertEqual([(k, x, y) for k, x, y, _, _ in end], [('column', 1.5, 1.8), ('ball_red', 1.5, 0.5)])
 
     def test_brain_state_chain(self):
-        from robot_tools.report import match_report
+        from robot_tools.report import match_bag
         bag = os.path.join(self.tmp, 'match.bag')
         write_match(bag)
-        topic, states = match_report.Match(bag).brain_states()
+        topic, states = match_bag.Match(bag).brain_states()
         self.assertEqual(topic, '/brain/smach/container_status')
         # The deepest active chain after each message (the handler interrupts, then BODY resumes).
         self.assertEqual([name for _, name in states],

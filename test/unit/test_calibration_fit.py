@@ -1,4 +1,4 @@
-"""The estimators of make calibrate (robot_tools.calibration.fit) on synthetic signals with a known
+"""The estimators of make calibrate (robot_tools.calibration) on synthetic signals with a known
 answer: the geometry of a robot whose wheels differ from its config, a motor's speed at full
 PWM, time constant and dead band, the wheels' slip, a ranger's bias and noise."""
 import math
@@ -8,7 +8,11 @@ import unittest
 import numpy as np
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-from robot_tools.calibration import fit as cf
+from robot_tools.calibration.geometry import Segments, fit_geometry, odometry_drift
+from robot_tools.calibration.motor import fit_motor, simulate_motor, wheel_speed
+from robot_tools.calibration.range_errors import fit_errors
+from robot_tools.calibration.slip import fit_slip
+from robot_tools.calibration.stats import unwrap
 
 
 def drive(tpm_l, tpm_r, track, seconds=90.0, rate=100.0, seed=1):
@@ -37,8 +41,8 @@ class GeometryTest(unittest.TestCase):
         k = np.arange(0, len(t), 2)
         ex, ey = x[k] + rng.normal(0, 0.003, len(k)), y[k] + rng.normal(0, 0.003, len(k))
         eth = th[k] + rng.normal(0, 0.006, len(k))
-        segs = cf.Segments(t, tl, tr, t[k], ex, ey, eth, length=1.0)
-        (fl, fr, fb), mask, rms = cf.fit_geometry(segs, tpm_l=2328.3, tpm_r=2328.3, track=0.25)
+        segs = Segments(t, tl, tr, t[k], ex, ey, eth, length=1.0)
+        (fl, fr, fb), mask, rms = fit_geometry(segs, tpm_l=2328.3, tpm_r=2328.3, track=0.25)
         self.assertLess(abs(fl.value / true_l - 1), 0.003, fl)
         self.assertLess(abs(fr.value / true_r - 1), 0.003, fr)
         self.assertLess(abs(fb.value / true_b - 1), 0.003, fb)
@@ -46,9 +50,9 @@ class GeometryTest(unittest.TestCase):
         for f, true in ((fl, true_l), (fr, true_r), (fb, true_b)):  # an uncertainty that covers the truth
             self.assertIsNotNone(f.sigma)
             self.assertLess(abs(f.value - true), 3.0 * f.sigma + 1e-12, f)
-        long_segs = cf.Segments(t, tl, tr, t[k], ex, ey, eth, length=6.0)
-        before = cf.odometry_drift(long_segs, 2328.3, 2328.3, 0.25)
-        after = cf.odometry_drift(long_segs, fl.value, fr.value, fb.value)
+        long_segs = Segments(t, tl, tr, t[k], ex, ey, eth, length=6.0)
+        before = odometry_drift(long_segs, 2328.3, 2328.3, 0.25)
+        after = odometry_drift(long_segs, fl.value, fr.value, fb.value)
         self.assertLess(after, 0.5 * before, 'drift %.1f mm/m, before %.1f' % (after, before))
 
     def test_a_slipping_stretch_is_left_out(self):
@@ -56,14 +60,14 @@ class GeometryTest(unittest.TestCase):
         tl = tl.copy()
         tl[3000:3300] += np.linspace(0, 400, 300)  # the left wheel spins 17 cm on the spot
         tl[3300:] += 400
-        segs = cf.Segments(t, tl, tr, t, x, y, th, length=1.0)
-        (fl, fr, fb), mask, _ = cf.fit_geometry(segs, tpm_l=2328.3, tpm_r=2328.3, track=0.25)
+        segs = Segments(t, tl, tr, t, x, y, th, length=1.0)
+        (fl, fr, fb), mask, _ = fit_geometry(segs, tpm_l=2328.3, tpm_r=2328.3, track=0.25)
         self.assertLess(abs(fl.value / 2328.3 - 1), 0.003)
         self.assertLess(mask.sum(), len(mask))
 
     def test_counters_that_wrap_are_unwrapped(self):
         raw = np.array([65530, 65535, 3, 10, 2, 65534]) % 65536
-        self.assertEqual(list(cf.unwrap(raw, 16)), [65530, 65535, 65539, 65546, 65538, 65534])
+        self.assertEqual(list(unwrap(raw, 16)), [65530, 65535, 65539, 65546, 65538, 65534])
 
 
 class MotorTest(unittest.TestCase):
@@ -73,10 +77,10 @@ class MotorTest(unittest.TestCase):
         u = 0.6 * np.sin(0.4 * t_cmd) + 0.3 * np.sign(np.sin(1.3 * t_cmd))
         u_of_t = lambda tt: u[np.clip(np.searchsorted(t_cmd, tt, side='right') - 1, 0, len(u) - 1)]  # noqa: E731
         t_enc = np.arange(0.0, 30.0, 0.01)
-        w = cf.simulate_motor(t_enc, u_of_t, true['max_speed'], true['time_constant'], true['dead_band'])
+        w = simulate_motor(t_enc, u_of_t, true['max_speed'], true['time_constant'], true['dead_band'])
         ticks = np.floor(np.concatenate([[0.0], np.cumsum(w[:-1] * 0.01)]) * 512 / (2 * math.pi))
-        t_w, w_meas = cf.wheel_speed(t_enc, ticks, 512)
-        (speed, tau, band), rms = cf.fit_motor(t_cmd, u, t_w, w_meas, guess_speed=28.0)
+        t_w, w_meas = wheel_speed(t_enc, ticks, 512)
+        (speed, tau, band), rms = fit_motor(t_cmd, u, t_w, w_meas, guess_speed=28.0)
         self.assertLess(abs(speed.value / 24.0 - 1), 0.05, speed)
         self.assertLess(abs(tau.value / 0.08 - 1), 0.2, tau)
         self.assertLess(abs(band.value - 0.05), 0.02, band)
@@ -90,11 +94,11 @@ class MotorTest(unittest.TestCase):
         u = np.where(np.sin(0.7 * t_cmd) > 0, 1.0, -0.5) * (np.sin(0.23 * t_cmd) > -0.8)
         u_of_t = lambda tt: u[np.clip(np.searchsorted(t_cmd, tt, side='right') - 1, 0, len(u) - 1)]  # noqa: E731
         t_enc = np.arange(0.0, 30.0, 0.01)
-        w = cf.simulate_motor(t_enc, u_of_t, 28.0, 0.06, 0.0, max_accel=60.0, dt=0.001, limit=limit)
+        w = simulate_motor(t_enc, u_of_t, 28.0, 0.06, 0.0, max_accel=60.0, dt=0.001, limit=limit)
         w[(t_enc > 12.0) & (t_enc < 14.0)] = 0.0
         ticks = np.floor(np.concatenate([[0.0], np.cumsum(w[:-1] * 0.01)]) * 512 / (2 * math.pi))
-        t_w, w_meas = cf.wheel_speed(t_enc, ticks, 512)
-        (speed, tau, band), _ = cf.fit_motor(t_cmd, u, t_w, w_meas, guess_speed=24.0, max_accel=60.0, limit=limit)
+        t_w, w_meas = wheel_speed(t_enc, ticks, 512)
+        (speed, tau, band), _ = fit_motor(t_cmd, u, t_w, w_meas, guess_speed=24.0, max_accel=60.0, limit=limit)
         self.assertLess(abs(speed.value / 28.0 - 1), 0.05, speed)
         self.assertLess(abs(tau.value / 0.06 - 1), 0.2, tau)
         self.assertLess(band.value, 0.02, band)
@@ -121,7 +125,7 @@ class SlipAndRangesTest(unittest.TestCase):
         acc = rng.uniform(0.0, 1.0, 400)
         est = rng.uniform(0.2, 0.5, 400)
         odo = est * (1.0 + 0.02 * acc + rng.normal(0, 0.003, 400))
-        per_accel, noise, share = cf.fit_slip(odo, est, acc)
+        per_accel, noise, share = fit_slip(odo, est, acc)
         self.assertAlmostEqual(per_accel.value, 0.02, delta=0.002)
         self.assertAlmostEqual(noise.value, 0.003, delta=0.0006)
         self.assertLess(share, 0.05)
@@ -131,7 +135,7 @@ class SlipAndRangesTest(unittest.TestCase):
         expected = rng.uniform(0.1, 0.8, 2000)
         measured = expected + 0.012 + rng.normal(0, 0.008, 2000)
         measured[:150] = expected[:150] - rng.uniform(0.2, 0.5, 150)  # the opponent in front
-        bias, noise, n = cf.fit_errors(measured, expected)
+        bias, noise, n = fit_errors(measured, expected)
         self.assertAlmostEqual(bias.value, 0.012, delta=0.001)
         self.assertLess(abs(noise.value / 0.008 - 1), 0.2)
         self.assertGreater(n, 1700)

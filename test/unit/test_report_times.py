@@ -1,4 +1,4 @@
-"""Every time in a match report is match time (scripts/match_report.py stamp_of): a message's
+"""Every time in a match report is match time (robot_tools.report.match_bag stamp_of): a message's
 header stamp when it is on the bag's clock, the bag time when it is on another one (process_watch
 probes on the wall clock and stamps its diagnostics with epoch seconds in a simulated match); and a
 goal that never ended does not stop the report's goal spans."""
@@ -7,7 +7,7 @@ import unittest
 from types import SimpleNamespace
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
-from robot_tools.report.match_report import Match, stamp_of
+from robot_tools.report.match_bag import Match, stamp_of
 
 
 class Time(object):

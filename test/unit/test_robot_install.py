@@ -17,7 +17,7 @@ import yaml
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', '..'))
 SCRIPT = os.path.join(ROOT, 'scripts', 'robot_install.py')
-from robot_tools.install import robot_install
+from robot_tools.install import host_files, plan
 
 ENV = dict(os.environ, PATH='/usr/bin:/bin:/usr/sbin:/sbin:' + os.environ.get('PATH', ''))
 
@@ -54,7 +54,7 @@ def values(u, section, key):
 
 def network(cfg):
     """computer/network of a config, as the installer reads it (loopback when absent)."""
-    n = dict(robot_install.DEFAULT_NETWORK)
+    n = dict(plan.DEFAULT_NETWORK)
     n.update((cfg.get('computer') or {}).get('network') or {})
     return n
 
@@ -123,7 +123,7 @@ class InstallTest(unittest.TestCase):
         self.check_network(robot, cfg)
 
         # A oneshot unit per CAN interface, bound to and enabled for its device, at its bitrate.
-        boards = robot_install.can_boards(cfg)
+        boards = plan.can_boards(cfg)
         self.assertEqual(set(boards.values()), set(can), 'computer/can != the hcl blocks\' socketcan buses')
         for iface, bitrate in can.items():
             u = unit(self.read('%s/robot-can-%s.service' % (units, iface)))
@@ -178,7 +178,7 @@ class InstallTest(unittest.TestCase):
 
         nft_file = '/etc/robot/%s.nft' % robot
         rules = self.read(nft_file)
-        self.assertEqual(rules, robot_install.firewall_rules(robot, net, robot_install.read_port_range()))
+        self.assertEqual(rules, host_files.firewall_rules(robot, net, plan.read_port_range()))
         f = unit(self.read('%s/%s' % (units, firewall)))
         self.assertEqual(values(f, 'Service', 'Type'), ['oneshot'])
         self.assertEqual(values(f, 'Service', 'RemainAfterExit'), ['yes'])
@@ -289,7 +289,7 @@ class ConfigErrorTest(unittest.TestCase):
     def test_can_bus_without_bitrate(self):
         cfg = copy.deepcopy(config('eurobot2009'))
         del cfg['computer']['can']['can0']
-        board = sorted(robot_install.can_boards(cfg))[0]
+        board = sorted(plan.can_boards(cfg))[0]
         self.refused(cfg, 'hcl/%s/bus is socketcan://can0 but computer/can has no bitrate for can0' % board)
 
     def test_can_bus_and_no_computer_section(self):
@@ -364,7 +364,7 @@ class FirewallRulesTest(unittest.TestCase):
 
     def test_table_of_its_own_replaced_whole(self):
         for robot in ('eurobot2009', 'logion', 'skeleton'):
-            lines = self.rules(robot_install.firewall_rules(robot, self.network(robot), (32768, 60999)))
+            lines = self.rules(host_files.firewall_rules(robot, self.network(robot), (32768, 60999)))
             self.assertEqual(lines[:3], ['table inet robot_%s' % robot, 'delete table inet robot_%s' % robot,
                                          'table inet robot_%s {' % robot])
             self.assertNotIn('flush ruleset', '\n'.join(lines))
@@ -372,7 +372,7 @@ class FirewallRulesTest(unittest.TestCase):
     def test_accepted_and_dropped(self):
         net = self.network(robot_hosts=['10.1.0.2'], allow=['192.168.1.20', '192.168.7.0/24'])
         low, high = 40000, 50000
-        text = robot_install.firewall_rules('eurobot2009', net, (low, high))
+        text = host_files.firewall_rules('eurobot2009', net, (low, high))
         lines = self.rules(text)
         elements = [l for l in lines if l.startswith('elements = {')]
         self.assertEqual(len(elements), 1, text)
@@ -401,7 +401,7 @@ class FirewallRulesTest(unittest.TestCase):
     def test_overlaps_merged(self):
         # An interval set refuses overlapping elements: loopback's own address, a host inside an allowed network.
         net = self.network(address='127.0.0.1', robot_hosts=['192.168.7.5'], allow=['192.168.7.0/24', '192.168.7.0/25'])
-        self.assertEqual(robot_install.allowed_elements(net), ['127.0.0.0/8', '192.168.7.0/24'])
+        self.assertEqual(host_files.allowed_elements(net), ['127.0.0.0/8', '192.168.7.0/24'])
 
     def test_port_range_reader(self):
         d = tempfile.mkdtemp(prefix='robot_install_ports_')
@@ -409,15 +409,15 @@ class FirewallRulesTest(unittest.TestCase):
             path = os.path.join(d, 'ip_local_port_range')
             with open(path, 'w') as f:
                 f.write('32768\t60999\n')
-            self.assertEqual(robot_install.read_port_range(path), (32768, 60999))
-            self.assertEqual(robot_install.read_port_range(os.path.join(d, 'none')), (32768, 60999))
+            self.assertEqual(plan.read_port_range(path), (32768, 60999))
+            self.assertEqual(plan.read_port_range(os.path.join(d, 'none')), (32768, 60999))
             with open(path, 'w') as f:
                 f.write('60999 1024\n')
-            self.assertRaises(robot_install.ConfigError, robot_install.read_port_range, path)
+            self.assertRaises(plan.ConfigError, plan.read_port_range, path)
         finally:
             shutil.rmtree(d)
         with open('/proc/sys/net/ipv4/ip_local_port_range') as f:
-            self.assertEqual(robot_install.read_port_range(), tuple(int(v) for v in f.read().split()))
+            self.assertEqual(plan.read_port_range(), tuple(int(v) for v in f.read().split()))
 
     def test_nft_checks_it(self):
         """nft -c parses and checks it against the kernel without loading it (needs CAP_NET_ADMIN)."""
@@ -428,7 +428,7 @@ class FirewallRulesTest(unittest.TestCase):
         for robot in ('eurobot2009', 'logion', 'skeleton'):
             net = self.network(robot, allow=['192.168.1.20', '10.0.0.0/8'])
             with tempfile.NamedTemporaryFile('w', suffix='.nft') as f:
-                f.write(robot_install.firewall_rules(robot, net, robot_install.read_port_range()))
+                f.write(host_files.firewall_rules(robot, net, plan.read_port_range()))
                 f.flush()
                 r = subprocess.run(['/usr/sbin/nft', '-c', '-f', f.name], stdout=subprocess.PIPE,
                                    stderr=subprocess.STDOUT, universal_newlines=True)
@@ -481,7 +481,7 @@ class FirewallLoadedTest(unittest.TestCase):
         self.addCleanup(shutil.rmtree, d, True)
         path = os.path.join(d, robot + '.nft')
         with open(path, 'w') as f:
-            f.write(robot_install.firewall_rules(robot, net, robot_install.read_port_range()))
+            f.write(host_files.firewall_rules(robot, net, plan.read_port_range()))
         for _ in range(2):   # twice: loading it again replaces the table
             r = in_ns(ns, '/usr/sbin/nft', '-f', path)
             self.assertEqual(r.returncode, 0, r.stderr)
@@ -515,7 +515,7 @@ class FirewallLoadedTest(unittest.TestCase):
             subprocess.check_call(['ip', '-n', ns, 'addr', 'add', ip + '/30', 'dev', dev], env=ENV)
             subprocess.check_call(['ip', '-n', ns, 'link', 'set', dev, 'up'], env=ENV)
         self.load(ns=inside, robot=robot, net=net)
-        low, high = robot_install.read_port_range()
+        low, high = plan.read_port_range()
         ros_port, other_port = net['master_port'], 2222   # 2222: not a ROS port (an ssh)
         listener = subprocess.Popen(['ip', 'netns', 'exec', inside, sys.executable, '-c', LISTEN, str(ros_port),
                                      str(other_port), str(low + 7)], stdout=subprocess.PIPE, env=ENV,

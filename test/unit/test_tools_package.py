@@ -25,7 +25,9 @@ def modules():
 def imported(path, known):
     """The robot_tools modules a file imports, wherever the import statement stands."""
     found = set()
-    for node in ast.walk(ast.parse(open(path).read(), path)):
+    with open(path) as f:
+        tree = ast.parse(f.read(), path)
+    for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             found.update(a.name for a in node.names if a.name in known)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
@@ -46,7 +48,11 @@ class ToolsPackageTest(unittest.TestCase):
 
     def test_nothing_changes_sys_path(self):
         files = list(modules().values()) + glob.glob(os.path.join(ROOT, 'scripts', '**', '*.py'), recursive=True)
-        offenders = [os.path.relpath(p, ROOT) for p in files if 'sys.path' in open(p).read()]
+        offenders = []
+        for p in files:
+            with open(p) as f:
+                if 'sys.path' in f.read():
+                    offenders.append(os.path.relpath(p, ROOT))
         self.assertEqual(offenders, [])
 
     def test_the_import_graph_has_no_cycle(self):
@@ -68,7 +74,10 @@ class ToolsPackageTest(unittest.TestCase):
         self.assertEqual(cycles, [], 'import cycles: %s' % [' -> '.join(c) for c in cycles])
 
     def test_no_module_outgrows_one_concern(self):
-        long = sorted((sum(1 for _ in open(p)), os.path.relpath(p, ROOT)) for p in modules().values())
+        long = []
+        for p in modules().values():
+            with open(p) as f:
+                long.append((sum(1 for _ in f), os.path.relpath(p, ROOT)))
         self.assertEqual([f for f in long if f[0] > LONGEST], [])
 
     def test_the_commands_are_thin_entry_points(self):

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make new-robot NAME=... FROM=skeleton|eurobot2009|logion`: a new robot's files from a template.
 
     scripts/new_robot.py NAME --from TEMPLATE [--remove]

@@ -1,11 +1,10 @@
-#!/usr/bin/env python3
 """`make calibrate ROBOT=... BAG=...`: the robot and the simulator's model of it, fitted to one
 recorded match, from the bag alone (a match on the table records the same topics, without the
 simulator's ground truth; the localization's beacon-based estimate is the reference).
 
     scripts/calibrate.py ROBOT BAG [--out DIR] [--report PREFIX]
 
-Fits (robot_tools.calibration.fit): the driven wheels' ticks per metre (left, right) and the track
+Fits (robot_tools.calibration): the driven wheels' ticks per metre (left, right) and the track
 width that make the odometry agree with the estimate; per drive motor the wheel speed at full PWM,
 the time constant and the dead band; how much the wheels slip with their acceleration; each
 ranger's bias and noise against the table's borders at the estimated pose; the beacons' range
@@ -23,7 +22,14 @@ import sys
 import numpy as np
 
 from robot_tools.paths import ROOT
-from robot_tools.calibration import fit as cf
+# (geometry and slip as modules: this file has its own fit_geometry and fit_slip, which call theirs)
+from robot_tools.calibration import geometry as geometry_fit
+from robot_tools.calibration import slip as slip_fit
+from robot_tools.calibration.geometry import Segments, odometry_drift, stop_to_stop
+from robot_tools.calibration.geometry_beacons import SHARED, BeaconChunks, beacon_drift, fit_geometry_beacons
+from robot_tools.calibration.motor import fit_motor, wheel_speed
+from robot_tools.calibration.range_errors import fit_errors, noise_with_range
+from robot_tools.calibration.stats import Fit
 from robot_tools.calibration import output as out
 from robot_tools.calibration import replay
 from robot_tools.calibration import signals as sig
@@ -60,7 +66,7 @@ def sim_motor(config, side):
 
 
 def fit_geometry(s, config):
-    """Against the beacons when the robot has them (robot_tools.calibration.fit BeaconChunks: the
+    """Against the beacons when the robot has them (geometry_beacons.BeaconChunks: the
     wheels dead-reckoned stretch by stretch against every range, independent of the odometry);
     else stop to stop against the localization's estimate, or one second at a time when the
     match has too few stops."""
@@ -75,30 +81,30 @@ def fit_geometry(s, config):
             x, y, a = sig.pose_at(e, np.array([when]))
             return x[0], y[0], a[0]
         mx, my, _ = s.mounts['beacon receiver']
-        chunks = cf.BeaconChunks(t, tl, tr, s.beacons, beacons, (mx, my), start_at, length=STRETCH)
+        chunks = BeaconChunks(t, tl, tr, s.beacons, beacons, (mx, my), start_at, length=STRETCH)
         if chunks.count:
-            fits, kept, rms, q = cf.fit_geometry_beacons(chunks, tpm[0], tpm[1], track)
-            before = cf.beacon_drift(chunks, tpm[0], tpm[1], track, kept=kept)
-            after = cf.beacon_drift(chunks, fits[0].value, fits[1].value, fits[2].value, kept=kept)
+            fits, kept, rms, q = fit_geometry_beacons(chunks, tpm[0], tpm[1], track)
+            before = beacon_drift(chunks, tpm[0], tpm[1], track, kept=kept)
+            after = beacon_drift(chunks, fits[0].value, fits[1].value, fits[2].value, kept=kept)
             # the poses the fit found (the wheels dead-reckoned with the fitted values from each
             # stretch's fitted start): the reference for the rangers, surer than the estimate of a
             # robot whose odometry was off
-            reference = np.concatenate([np.column_stack(chunks.poses(k, *q[:3], q[cf.SHARED + 3 * k:cf.SHARED + 3 * k + 3]))
+            reference = np.concatenate([np.column_stack(chunks.poses(k, *q[:3], q[SHARED + 3 * k:SHARED + 3 * k + 3]))
                                         for k in range(chunks.count) if kept[k]])
             spans = [c['span'] for k, c in enumerate(chunks.chunks) if kept[k]]
             return dict(tpm=tpm, track=track, fits=fits, mask=kept, rms=rms, chunks=chunks, q=q, reference=reference,
                         spans=spans,
                         kind='against the beacons, %d s stretches' % STRETCH, before=before, after=after,
                         drift_what='the beacons (RMS range residual per metre)')
-    segs, kind = cf.stop_to_stop(t, tl, tr, e[:, 0], e[:, 1], e[:, 2], e[:, 3]), 'stop to stop'
+    segs, kind = stop_to_stop(t, tl, tr, e[:, 0], e[:, 1], e[:, 2], e[:, 3]), 'stop to stop'
     if segs.count < MIN_SEGMENTS:
-        segs, kind = cf.Segments(t, tl, tr, e[:, 0], e[:, 1], e[:, 2], e[:, 3], length=SEGMENT), 'one second each'
+        segs, kind = Segments(t, tl, tr, e[:, 0], e[:, 1], e[:, 2], e[:, 3], length=SEGMENT), 'one second each'
     if segs.count < MIN_SEGMENTS:
         sys.exit('calibrate: only %d segments where the robot moved with a sound estimate: record a longer match'
                  % segs.count)
-    fits, mask, rms = cf.fit_geometry(segs, tpm_l=tpm[0], tpm_r=tpm[1], track=track)
-    before = cf.odometry_drift(segs, tpm[0], tpm[1], track, mask)
-    after = cf.odometry_drift(segs, fits[0].value, fits[1].value, fits[2].value, mask)
+    fits, mask, rms = geometry_fit.fit_geometry(segs, tpm_l=tpm[0], tpm_r=tpm[1], track=track)
+    before = odometry_drift(segs, tpm[0], tpm[1], track, mask)
+    after = odometry_drift(segs, fits[0].value, fits[1].value, fits[2].value, mask)
     return dict(tpm=tpm, track=track, fits=fits, mask=mask, rms=rms, segs=segs, kind=kind + ' against the estimate',
                 reference=e, spans=[(e[0, 0], e[-1, 0])],
                 before=before, after=after, drift_what='the estimate')
@@ -110,13 +116,13 @@ def fit_motors(s, config):
     for side in ('left', 'right'):
         if side not in s.commands or side not in s.encoders:
             continue
-        t_w, w = cf.wheel_speed(*s.encoders[side], tpr)
+        t_w, w = wheel_speed(*s.encoders[side], tpr)
         name, m = sim_motor(config, side)
         guess = float(m.get('max_speed', 20.0))
         t_c, u = s.commands[side]
         # the current limiter is the config's (stall and limit currents are not fitted)
         limit = float(m.get('current_limit', 4.0)) / float(m.get('stall_current', 6.0))
-        fits, rms = cf.fit_motor(t_c, u, t_w, w, guess_speed=guess, max_accel=float(m.get('max_accel', 60.0)), limit=limit)
+        fits, rms = fit_motor(t_c, u, t_w, w, guess_speed=guess, max_accel=float(m.get('max_accel', 60.0)), limit=limit)
         out_[side] = dict(name=name, config=m, fits=fits, rms=rms, t=t_w, w=w)
     return out_
 
@@ -126,19 +132,19 @@ def fit_slip(geometry, s, config):
     fl, fr, _ = geometry['fits']
     t, tl, tr = common_ticks(s.encoders)
     e = s.estimate
-    segs = cf.Segments(t, tl, tr, e[:, 0], e[:, 1], e[:, 2], e[:, 3], length=SEGMENT)
+    segs = Segments(t, tl, tr, e[:, 0], e[:, 1], e[:, 2], e[:, 3], length=SEGMENT)
     if segs.count < 3:
-        return cf.Fit(0.0), cf.Fit(0.0), 0.0
+        return Fit(0.0), Fit(0.0), 0.0
     odo = np.array([np.sum((segs.dl[segs.seg == k] / fl.value + segs.dr[segs.seg == k] / fr.value) / 2.0)
                     for k in range(segs.count)])
     tpr = float(get(config, 'robot', 'encoder_ticks_per_rev', default=512))
     radius = tpr / (2 * math.pi * (fl.value + fr.value) / 2.0)
-    t_w, w = cf.wheel_speed(*s.encoders['left'], tpr)
+    t_w, w = wheel_speed(*s.encoders['left'], tpr)
     acc_t = 0.5 * (t_w[1:] + t_w[:-1])
     acc = np.abs(np.diff(w) / np.maximum(np.diff(t_w), 1e-3)) * radius
     seg_acc = np.array([np.mean(acc[(acc_t >= a) & (acc_t < a + SEGMENT)]) if np.any((acc_t >= a) & (acc_t < a + SEGMENT))
                         else 0.0 for a in segs.start])
-    return cf.fit_slip(np.abs(odo), segs.travel(), seg_acc)
+    return slip_fit.fit_slip(np.abs(odo), segs.travel(), seg_acc)
 
 
 def resolved(fit):
@@ -182,8 +188,8 @@ def fit_rangers(s, config, reference, spans):
         expected = np.array([table.cone_range(px, py, pa + mnt[2], fov) for px, py, pa, fov in zip(sx, sy, a, r[:, 4])])
         # well inside the range: near its end only the readings that came out short stay in
         keep = expected < RANGE_USED * r[:, 3]
-        bias, noise, n = cf.fit_errors(r[keep, 1], expected[keep], outlier=0.3)
-        rel = cf.noise_with_range(r[keep, 1] - expected[keep], expected[keep], bias.value)
+        bias, noise, n = fit_errors(r[keep, 1], expected[keep], outlier=0.3)
+        rel = noise_with_range(r[keep, 1] - expected[keep], expected[keep], bias.value)
         out_[name] = dict(bias=bias, noise=noise, rel=rel, n=n, expected=expected[keep], measured=r[keep, 1])
     return out_
 
@@ -197,10 +203,10 @@ def fit_beacons(s, config, geometry):
         return None
     if 'chunks' in geometry:
         chunks, q = geometry['chunks'], geometry['q']
-        residual = np.concatenate([c['range'] - chunks.predicted(k, *q[:3], q[cf.SHARED + 3 * k:cf.SHARED + 3 * k + 3],
-                                                                 *q[3:cf.SHARED])
+        residual = np.concatenate([c['range'] - chunks.predicted(k, *q[:3], q[SHARED + 3 * k:SHARED + 3 * k + 3],
+                                                                 *q[3:SHARED])
                                    for k, c in enumerate(chunks.chunks) if geometry['mask'][k]])
-        bias, noise, n = cf.fit_errors(residual, np.zeros(len(residual)), outlier=0.2)
+        bias, noise, n = fit_errors(residual, np.zeros(len(residual)), outlier=0.2)
         return dict(bias=bias, noise=noise, n=n)
     b = s.beacons[(s.beacons[:, 0] >= s.estimate[0, 0]) & (s.beacons[:, 0] <= s.estimate[-1, 0])]
     x, y, a = sig.pose_at(s.estimate, b[:, 0])
@@ -208,7 +214,7 @@ def fit_beacons(s, config, geometry):
     rx, ry = x + np.cos(a) * mx - np.sin(a) * my, y + np.sin(a) * mx + np.cos(a) * my
     pos = np.array([beacons[int(i)] for i in b[:, 1]], dtype=float)
     expected = np.hypot(pos[:, 0] - rx, pos[:, 1] - ry)
-    bias, noise, n = cf.fit_errors(b[:, 2], expected, outlier=0.2)
+    bias, noise, n = fit_errors(b[:, 2], expected, outlier=0.2)
     return dict(bias=bias, noise=noise, n=n)
 
 
@@ -295,7 +301,7 @@ def main():
              out.value_line('left ticks per metre', fl, driven.get('left_ticks_per_meter')),
              out.value_line('right ticks per metre', fr, driven.get('right_ticks_per_meter')),
              out.value_line('track width', fb, geometry['track'], ' m'),
-             out.value_line('wheel radius (mean)', cf.Fit(radius), get(config, 'robot', 'wheel_radius'), ' m'),
+             out.value_line('wheel radius (mean)', Fit(radius), get(config, 'robot', 'wheel_radius'), ' m'),
              '  odometry drift against %s: %.1f mm/m before, %.1f mm/m after' % (
                  geometry['drift_what'], geometry['before'], geometry['after']),
              'the simulator (config/%s.sim.yaml; overlay %s):' % (args.robot, sim_yaml)]
@@ -337,8 +343,8 @@ def main():
         series = []
         for k, c in enumerate(chunks.chunks):
             if geometry['mask'][k]:
-                start = q[cf.SHARED + 3 * k:cf.SHARED + 3 * k + 3]
-                series.append((c['rt'], c['range'] - chunks.predicted(k, *q[:3], start, *q[3:cf.SHARED]),
+                start = q[SHARED + 3 * k:SHARED + 3 * k + 3]
+                series.append((c['rt'], c['range'] - chunks.predicted(k, *q[:3], start, *q[3:SHARED]),
                                'stretch %d' % (k + 1)))
         panels = [('beacon ranges against the fitted dead reckoning', series, 'time [s]', 'residual [m]')]
     else:

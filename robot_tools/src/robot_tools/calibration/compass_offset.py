@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Compass calibration from a recorded run: the offset between the HAL compass heading
 (/hal/compass/heading, hal_nodes/Heading) and a reference yaw (nav_msgs/Odometry: the
 simulator's /sim/ground_truth, or on the real table any recorded reference you trust, e.g. an

@@ -16,7 +16,7 @@ import xmlrpc.client
 
 import numpy as np
 
-from robot_tools.calibration.fit import robust_mask
+from robot_tools.calibration.stats import robust_mask
 
 WINDOW = 1.0  # [s]
 

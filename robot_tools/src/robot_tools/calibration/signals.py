@@ -92,7 +92,7 @@ def read(bag, config):
         prob = np.interp(est[:, 0], q[:, 0], q[:, 1])
         est = est[prob >= 0.6]
     driven = hal.get('odometry', {}).get('pairs', {}).get('driven', {})
-    from robot_tools.calibration.fit import unwrap
+    from robot_tools.calibration.stats import unwrap
     encoders = {}
     for side in ('left', 'right'):
         rows = [(m.header.stamp.to_sec(), m.raw, m.bits) for _, m, _ in bag.read_messages(topics=[driven.get(side, '')])]

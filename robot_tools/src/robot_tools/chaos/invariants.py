@@ -26,7 +26,8 @@ import collections
 import statistics
 
 from robot_tools.chaos.faults import expected_status
-from robot_tools.report.match_report import errors_against_truth, stamp_of
+from robot_tools.report.match_bag import stamp_of
+from robot_tools.report.metrics import errors_against_truth
 
 NAMED_WITHIN = 1.0        # [s]
 CLEARED_WITHIN = 2.0      # [s]

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make chaos`: simulated matches with faults injected while they run, and the invariants
 every robot must keep whatever breaks.
 
@@ -37,7 +36,7 @@ from robot_tools.matches import run_folders
 from robot_tools.matches import match_config
 from robot_tools.matches import match_rows
 from robot_tools.matches import run_match
-from robot_tools.report.match_report import Match
+from robot_tools.report.match_bag import Match
 
 
 def log(msg):

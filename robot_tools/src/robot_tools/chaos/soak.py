@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make soak ROBOT=... N=...`: `make matches` and `make chaos` back to back, N matches each, and one
 summary of both.
 

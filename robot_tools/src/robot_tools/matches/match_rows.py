@@ -12,7 +12,8 @@ from robot_tools.matches import false_alarms
 from robot_tools.matches.match_config import OPPONENTS
 from robot_tools.chaos.invariants import statuses
 from robot_tools.matches.idle_time import IDLE_LIMIT, too_long
-from robot_tools.report.match_report import Match, errors_against_truth
+from robot_tools.report.match_bag import Match
+from robot_tools.report.metrics import errors_against_truth
 
 TOUCHING = 0.01  # [m] gap between the outlines that counts as a contact (the simulator stops them at ~0)
 SEPARATED = 0.03  # [m] gap that ends a contact: a robot pushing along the opponent is one contact, not many

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make run`: one simulated match of a robot, headless, from start cord to report.
 
     scripts/run_match.py ROBOT [--out DIR] [--strategy NAME] [--seed N] [--real-time-factor F]

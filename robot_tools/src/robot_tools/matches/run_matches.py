@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make matches`: many seeded simulated matches of a robot, one at a time, headless, with a
 row of figures per match, a summary PNG and a check of the invariants every match must keep.
 
@@ -19,7 +18,7 @@ between matches through
                our colour) and stays there (mode script, one waypoint, a pause longer than a match),
   player       plays the game for the other colour (mode player, its config block sim/world/opponent/player),
 written as one small YAML per match (DIR/ROBOT_seed<seed>/overlay.yaml, the launch argument
-`overlay`; `make tune` adds a trial's parameters to it). Every figure comes from the match's bag (scripts/match_report.py's Match) and
+`overlay`; `make tune` adds a trial's parameters to it). Every figure comes from the match's bag (robot_tools.report.match_bag's Match) and
 launch log:
   score ours / opponent  the referee's last /sim/match
   result                 won, lost or draw: ours against the opponent's

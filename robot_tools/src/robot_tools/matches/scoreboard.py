@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make play`: the scoreboard. How well each robot plays, over many matches, against its targets.
 
     scripts/scoreboard.py [--robots eurobot2009,logion] [--n 20] [--seed 1] [--factor 0]

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make replay BAG=... [ROBOT=eurobot2009] [THROUGH=localization] [RATE=1] [SIM=1]`: launch/replay.launch
 on a recorded match, and its verdict as the exit code (roslaunch itself always exits 0): the
 player's line `replay: reproduced R of N recorded estimates (P %) ...` is printed, and the exit

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """`make tune`: an Optuna study of a robot's parameters, each trial a set of simulated matches.
 
     scripts/tune.py ROBOT [--trials 50] [--seeds 5] [--seed 1] [--holdout H] [--holdout-seed K] [--factor 0]
