@@ -17,16 +17,22 @@ using diagnostic_msgs::DiagnosticStatus;
 
 DeviceSettings DeviceSettings::read(const robot_core::Params& p) {
   DeviceSettings s;
+  p.describe("rate", "[Hz] how often refresh() runs");
   s.rate = p.requireDouble("rate");
   p.requirePositive("rate", s.rate);
   // The ceiling of the runs that inputs wake (robot_core/loop_pacer.h): above the rate of the
   // streams that wake the device, or each of their readings ends up waiting for its token.
+  p.describe("max_rate",
+             "[Hz] the ceiling of the refreshes inputs wake: set it above the rate of the streams that wake it");
   s.max_rate = p.optionalDouble("max_rate", s.rate);
   p.requireInRange("max_rate", s.max_rate, s.rate, 10.0 * s.rate);
+  p.describe("diagnostic_period", "[s] status published this often while its level stays, at once when it changes");
   s.diagnostic_period = p.optionalDouble("diagnostic_period", 1.0);
   p.requirePositive("diagnostic_period", s.diagnostic_period);
+  p.describe("startup_grace", "[s] unavailable within this of the start is WARN (starting), not ERROR");
   s.startup_grace = p.optionalDouble("startup_grace", 5.0);
   p.requireInRange("startup_grace", s.startup_grace, 0.0, 600.0);
+  p.describe("required", "false: an optional device (the joystick's) the brain's readiness does not wait for");
   s.required = p.optionalBool("required", true);
   return s;
 }

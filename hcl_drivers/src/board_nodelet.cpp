@@ -29,16 +29,24 @@ BoardNodeletBase::~BoardNodeletBase() {
 
 BoardSettings BoardSettings::read(const robot_core::Params& p) {
   BoardSettings s;
+  p.describe("rate", "[Hz] polling rate of the board");
   s.rate = p.requireDouble("rate");
   p.requirePositive("rate", s.rate);
+  p.describe("stale_timeout", "[s] no good exchange for this long = STALE; when absent max(0.3, 3 / rate)");
   s.stale_timeout = p.optionalDouble("stale_timeout", std::max(0.3, 3.0 / s.rate));
   p.requirePositive("stale_timeout", s.stale_timeout);
+  p.describe("reopen_period",
+             "[s] a board whose channel cannot be opened (no device, no CAN interface) is STALE, retried this often");
   s.reopen_period = p.optionalDouble("reopen_period", 1.0);
   p.requirePositive("reopen_period", s.reopen_period);
+  p.describe("required", "true: the robot is not ready for a match without this board; false: reported, not waited for");
   s.required = p.optionalBool("required", true);
+  p.describe("loop", "loop group name; boards naming the same loop share one thread");
   s.loop = p.optionalString("loop", "");
+  p.describe("diagnostic_period", "[s] how often /diagnostics is published while the level stays the same");
   s.diagnostic_period = p.optionalDouble("diagnostic_period", 1.0);
   p.requirePositive("diagnostic_period", s.diagnostic_period);
+  p.describe("failures_for_error", "failed exchanges in a row that make the board ERROR (fewer are a WARN)");
   const int failures_for_error = p.optionalInt("failures_for_error", 3);
   p.requireInRange("failures_for_error", failures_for_error, 1, 1000);
   s.failures_for_error = static_cast<unsigned long>(failures_for_error);

@@ -16,6 +16,21 @@ namespace robot_core {
 
 namespace {
 
+// A number as a config writes it: 0.05, 2, 1e+06.
+std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? ".inf" : "-.inf";
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// "3 ", "2..4 ", "" (any length): a list's length as its type says it.
+std::string count(std::size_t min_size, std::size_t max_size) {
+  if (max_size == static_cast<std::size_t>(-1)) return min_size ? std::to_string(min_size) + " or more " : "";
+  if (min_size == max_size) return std::to_string(min_size) + " ";
+  return std::to_string(min_size) + ".." + std::to_string(max_size) + " ";
+}
+
 // A plain YAML scalar typed as `rosparam load` types it (PyYAML, YAML 1.1): bool, int (decimal,
 // 0x hex, 0o or leading-0 octal), float (with .inf / .nan), else string. Quoted: always a string.
 XmlRpc::XmlRpcValue scalarOf(const YAML::Node& n) {
@@ -128,6 +143,11 @@ Params Params::block(const std::string& name) const {
 }
 
 std::vector<std::string> Params::blockNames(const std::string& name) const {
+  {
+    std::lock_guard<std::mutex> lock(asked_->mutex);
+    asked_->block_maps.insert(qualified(name));
+  }
+  declare(name, "dictionary of named blocks", false, "{}");
   std::vector<std::string> out;
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) return out;
@@ -142,6 +162,7 @@ std::vector<std::string> Params::blockNames(const std::string& name) const {
 std::vector<std::string> Params::requireBlockNames(const std::string& name) const {
   if (!has(name)) rules::missing(qualified(name), "a dictionary of named blocks");
   std::vector<std::string> out = blockNames(name);
+  declare(name, "dictionary of named blocks", true, "");
   if (out.empty()) check(name, "must name at least one block");
   return out;
 }
@@ -158,6 +179,7 @@ std::vector<std::string> Params::keys() const {
 }
 
 std::vector<Params> Params::items(const std::string& name) const {
+  declare(name, "list of dictionaries", false, "[]");
   std::vector<Params> out;
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) return out;
@@ -176,45 +198,53 @@ std::string Params::qualified(const std::string& name) const { return ns_ + "/" 
 bool Params::has(const std::string& name) const { return find(name) != nullptr; }
 
 double Params::requireDouble(const std::string& name) const {
+  declare(name, "number", true, "");
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) rules::missing(qualified(name), "a number");
   return rules::toNumber(*v, qualified(name));
 }
 
 int Params::requireInt(const std::string& name) const {
+  declare(name, "integer", true, "");
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) rules::missing(qualified(name), "an integer");
   return rules::toInt(*v, qualified(name));
 }
 
 std::string Params::requireString(const std::string& name) const {
+  declare(name, "string", true, "");
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) rules::missing(qualified(name), "a string");
   return rules::toString(*v, qualified(name));
 }
 
 double Params::optionalDouble(const std::string& name, double fallback) const {
+  declare(name, "number", false, number(fallback));
   XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toNumber(*v, qualified(name)) : fallback;
 }
 
 int Params::optionalInt(const std::string& name, int fallback) const {
+  declare(name, "integer", false, std::to_string(fallback));
   XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toInt(*v, qualified(name)) : fallback;
 }
 
 bool Params::optionalBool(const std::string& name, bool fallback) const {
+  declare(name, "boolean", false, fallback ? "true" : "false");
   XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toBool(*v, qualified(name)) : fallback;
 }
 
 std::string Params::optionalString(const std::string& name, const std::string& fallback) const {
+  declare(name, "string", false, "'" + fallback + "'");
   XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toString(*v, qualified(name)) : fallback;
 }
 
 std::vector<double> Params::optionalDoubleList(const std::string& name, std::size_t min_size,
                                                std::size_t max_size) const {
+  declare(name, "list of " + count(min_size, max_size) + "numbers", false, "[]");
   std::vector<double> out;
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) return out;
@@ -230,6 +260,7 @@ std::vector<double> Params::optionalDoubleList(const std::string& name, std::siz
 }
 
 std::vector<std::vector<double>> Params::optionalDoubleRows(const std::string& name, std::size_t width) const {
+  declare(name, "list of [" + std::string(width == 2 ? "x, y" : std::to_string(width) + " numbers") + "]", false, "[]");
   std::vector<std::vector<double>> out;
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) return out;
@@ -247,6 +278,9 @@ std::vector<std::vector<double>> Params::optionalDoubleRows(const std::string& n
 
 std::vector<std::string> Params::optionalStringList(const std::string& name,
                                                   const std::vector<std::string>& fallback) const {
+  std::string shown;
+  for (const auto& f : fallback) shown += (shown.empty() ? "" : ", ") + f;
+  declare(name, "list of strings", false, "[" + shown + "]");
   std::vector<std::string> out;
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) return fallback;
@@ -256,6 +290,7 @@ std::vector<std::string> Params::optionalStringList(const std::string& name,
 }
 
 std::vector<std::pair<std::string, int>> Params::optionalIntMap(const std::string& name) const {
+  declare(name, "dictionary of name: integer", false, "{}");
   std::vector<std::pair<std::string, int>> out;
   XmlRpc::XmlRpcValue* v = find(name);
   if (!v) return out;
@@ -272,15 +307,69 @@ std::vector<std::pair<std::string, int>> Params::optionalIntMap(const std::strin
   return out;
 }
 
-void Params::requirePositive(const std::string& name, double value) const { rules::positive(qualified(name), value); }
+void Params::requirePositive(const std::string& name, double value) const {
+  declareRule(name, "> 0");
+  rules::positive(qualified(name), value);
+}
 
 void Params::requireInRange(const std::string& name, double value, double lo, double hi) const {
+  declareRule(name, std::isinf(hi) ? ">= " + number(lo) : std::isinf(lo) ? "<= " + number(hi)
+                                                                         : number(lo) + " .. " + number(hi));
   rules::inRange(qualified(name), value, lo, hi);
 }
 
 void Params::requireOneOf(const std::string& name, const std::string& value,
                           const std::vector<std::string>& allowed) const {
+  std::string shown;
+  for (const auto& a : allowed) shown += (shown.empty() ? "" : ", ") + (a.empty() ? std::string("''") : a);
+  declareRule(name, "one of: " + shown);
   rules::oneOf(qualified(name), value, allowed);
+}
+
+void Params::declare(const std::string& name, const std::string& type, bool required,
+                     const std::string& fallback) const {
+  if (!asked_) return;
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  ParameterDeclaration& d = asked_->declared[qualified(name)];  // keeps a meaning described first
+  d.type = type;
+  d.required = required;
+  d.fallback = fallback;
+}
+
+void Params::describe(const std::string& name, const std::string& meaning) const {
+  if (!asked_) return;
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  asked_->declared[qualified(name)].meaning = meaning;
+}
+
+void Params::declareRule(const std::string& name, const std::string& rule) const {
+  if (!asked_) return;
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  asked_->declared[qualified(name)].rule = rule;
+}
+
+std::map<std::string, ParameterDeclaration> Params::declarations() const {
+  std::map<std::string, ParameterDeclaration> out;
+  const std::string prefix = ns_ + "/";
+  static const std::regex item_index("\\[[0-9]+\\]");
+  std::lock_guard<std::mutex> lock(asked_->mutex);
+  for (const auto& [name, declaration] : asked_->declared) {
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    std::string general = name;
+    // an entry of a dictionary of named blocks: its name is the config's, the table says <name>
+    for (const auto& map : asked_->block_maps) {
+      if (general.compare(0, map.size() + 1, map + "/") != 0) continue;
+      const std::size_t end = general.find('/', map.size() + 1);
+      if (end == std::string::npos) continue;
+      general = map + "/<name>" + general.substr(end);
+    }
+    general = std::regex_replace(general, item_index, "[]");
+    ParameterDeclaration& d = out[general.substr(prefix.size())];
+    const std::string meaning = d.meaning.empty() ? declaration.meaning : d.meaning;
+    if (d.type.empty()) d = declaration;
+    d.meaning = meaning;
+  }
+  return out;
 }
 
 void Params::check(const std::string& name, const std::string& reason) const {

@@ -7,6 +7,9 @@
 // One line per error on stderr ("parameter /hcl/motor_board/type = 'Motorboard': unknown board
 // type; allowed values: ...", "parameter /hcl/io/adress = 32: not a parameter of board type
 // MCP23016 (it reads: address, bus, ...)"), exit 1; nothing and exit 0 when the blocks are good.
+//   check_components CONFIG.yaml NAMESPACE PACKAGE KIND --describe
+// also prints, for each good block, what its reader declared of each parameter (the generated
+// parameter tables, make docs): "TYPE<tab>name<tab>type<tab>required|optional<tab>default<tab>rule<tab>meaning".
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_loader.hpp>
 
@@ -30,7 +33,7 @@ std::string joined(const std::vector<std::string>& names) {
 
 // The errors of one block: its plugin's reader over it, then the keys nobody asked for.
 int checkBlock(pluginlib::ClassLoader<nodelet::Nodelet>& plugins, const std::string& package,
-               const std::string& type, const std::string& kind, const robot_core::Params& block) {
+               const std::string& type, const std::string& kind, const robot_core::Params& block, bool describe) {
   boost::shared_ptr<nodelet::Nodelet> plugin;
   try {
     plugin = plugins.createInstance(package + "/" + type);
@@ -55,14 +58,19 @@ int checkBlock(pluginlib::ClassLoader<nodelet::Nodelet>& plugins, const std::str
                  kind.c_str(), type.c_str(), known.c_str());
     ++errors;
   }
+  if (describe && !errors)
+    for (const auto& [name, d] : block.declarations())
+      std::printf("%s\t%s\t%s\t%s\t%s\t%s\t%s\n", type.c_str(), name.c_str(), d.type.c_str(),
+                  d.required ? "required" : "optional", d.fallback.c_str(), d.rule.c_str(), d.meaning.c_str());
   return errors;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5) {
-    std::fprintf(stderr, "usage: check_components CONFIG.yaml NAMESPACE PACKAGE KIND\n");
+  const bool describe = argc == 6 && std::string(argv[5]) == "--describe";
+  if (argc != 5 && !describe) {
+    std::fprintf(stderr, "usage: check_components CONFIG.yaml NAMESPACE PACKAGE KIND [--describe]\n");
     return 2;
   }
   const std::string ns = argv[2], package = argv[3], kind = argv[4];
@@ -81,7 +89,10 @@ int main(int argc, char** argv) {
   for (const std::string& key : host.keys()) {
     const robot_core::Params block = host[key];
     if (!block.has("type")) continue;  // a host setting (num_worker_threads), not a component
-    if (block.has("enabled") && !block.optionalBool("enabled", true)) continue;
+    // the host's own two keys (ComponentHost::loadFromParameters reads them so)
+    block.describe("enabled", "false: the host does not load this block (its settings stay for when it is enabled)");
+    if (!block.optionalBool("enabled", true)) continue;
+    block.describe("type", "the " + kind + " type, a plugin of " + package + " (a section of this table)");
     std::string type;
     try {
       type = block.requireString("type");
@@ -96,7 +107,7 @@ int main(int argc, char** argv) {
       ++errors;
       continue;
     }
-    errors += checkBlock(plugins, package, type, kind, block);
+    errors += checkBlock(plugins, package, type, kind, block, describe);
   }
   return errors ? 1 : 0;
 }

@@ -8,6 +8,7 @@ import unittest
 
 import actionlib
 import rospy
+from robot_core.geometry import wrap_angle
 import rostest
 from actionlib_msgs.msg import GoalStatus
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -73,7 +74,7 @@ class Robot(object):
         with self.lock:
             self.x += self.v * dt * math.cos(self.th)
             self.y += self.v * dt * math.sin(self.th)
-            self.th = math.atan2(math.sin(self.th + self.w * dt), math.cos(self.th + self.w * dt))
+            self.th = wrap_angle(self.th + self.w * dt)
             self.v, self.w = self.pending.linear.x, self.pending.angular.z  # applied from the next step
             if self.walled:
                 self.v = self.w = 0.0
@@ -148,7 +149,7 @@ class DriverDeviceTest(unittest.TestCase):
         self.assertEqual(r.code, GotoResult.REACHED)
         x, y, th = self.robot.pose()
         self.assertLess(math.hypot(x - 1.5, y - 1.2), 0.010)
-        self.assertLess(abs(math.atan2(math.sin(th - 1.0), math.cos(th - 1.0))), math.radians(2))
+        self.assertLess(abs(wrap_angle(th - 1.0)), math.radians(2))
         # Limits: no command beyond the configured speeds.
         for _, v, w in self.robot.commands_since(0):
             self.assertLessEqual(abs(v), 0.5 + 1e-9)

@@ -13,6 +13,7 @@ import unittest
 
 import actionlib
 import rospy
+from robot_core.geometry import wrap_angle
 import rostest
 from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import Pose2D, Twist
@@ -91,7 +92,7 @@ class DriverSimTest(unittest.TestCase):
             state, r, overshoot, took = self.run_goto(gx, gy, ga)
             x, y, th = self.truth_pose()
             truth_err = math.hypot(x - gx, y - gy)
-            truth_ang = abs(math.atan2(math.sin(th - ga), math.cos(th - ga)))
+            truth_ang = abs(wrap_angle(th - ga))
             print('%s goto (%.2f, %.2f, %.2f) in %.1f s: driver estimate %.1f mm %.2f deg; truth %.1f mm %.2f deg; '
                   'overshoot %.1f mm' % (self.robot, gx, gy, ga, took, 1e3 * r.position_error, abs(r.angle_error) / DEG,
                                          1e3 * truth_err, truth_ang / DEG, 1e3 * overshoot))

@@ -20,7 +20,7 @@ import time
 import unittest
 
 import rospy
-from robot_core.geometry import yaw_of
+from robot_core.geometry import wrap_angle, yaw_of
 import rostest
 from geometry_msgs.msg import Twist
 from hal_nodes.msg import BeaconRange
@@ -31,12 +31,6 @@ from std_msgs.msg import Float64
 from nav_msgs.msg import Odometry
 
 from test_support import DeviceDiagnostics, EffectorSwitch, Latest, is_active, real_time, wait_for
-
-
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 def median(values):
@@ -113,7 +107,7 @@ class HalSimTest(unittest.TestCase):
         x0, y0, t0 = self.start
         c, s = math.cos(t0), math.sin(t0)
         return (x0 + c * o.position.x - s * o.position.y, y0 + s * o.position.x + c * o.position.y,
-                wrap(t0 + yaw_of(o.orientation)))
+                wrap_angle(t0 + yaw_of(o.orientation)))
 
     def drive(self, v, w):
         t = Twist()
@@ -153,7 +147,7 @@ class HalSimTest(unittest.TestCase):
                 break
             target = min(speed, max(0.12, 1.5 * (dist - done)))
             v = min(target, v + 0.02)  # ~1 m/s^2 at 50 Hz: gentle, little slip
-            self.drive(v, 2.0 * wrap(heading - yaw_of(o.orientation)))
+            self.drive(v, 2.0 * wrap_angle(heading - yaw_of(o.orientation)))
             rospy.sleep(0.02)
         settled = self.settle()
         print('leg %.2f m: %.1f s wall (%.1f s to stand still), %.3f m by odometry, truth %s' %
@@ -167,14 +161,14 @@ class HalSimTest(unittest.TestCase):
         for _ in range(3):
             deadline = time.monotonic() + 15.0
             while not rospy.is_shutdown() and time.monotonic() < deadline:
-                err = wrap(heading - self.odom_yaw())
+                err = wrap_angle(heading - self.odom_yaw())
                 coast = 0.12 * self.odom.get().twist.twist.angular.z  # [rad] turned after the stop command
                 if abs(err) < 0.02 or abs(err - coast) < 0.02 or (err - coast) * err < 0:
                     break
                 self.drive(0.0, max(-1.5, min(1.5, 2.0 * err + math.copysign(0.6, err))))
                 rospy.sleep(0.02)
             settled += self.settle()
-            if abs(wrap(heading - self.odom_yaw())) < 0.03:
+            if abs(wrap_angle(heading - self.odom_yaw())) < 0.03:
                 break
         print('turn to %.2f rad: %.1f s wall (%.1f s to stand still), odometry %.3f rad, truth %s' %
               (heading, time.monotonic() - t_leg, settled, self.odom_yaw(), self.truth_pose()))
@@ -197,7 +191,7 @@ class HalSimTest(unittest.TestCase):
         for _ in range(2):
             for leg in (1.8, 0.9, 1.8, 0.9):
                 self.straight(leg, heading)
-                heading = wrap(heading - math.pi / 2)
+                heading = wrap_angle(heading - math.pi / 2)
                 self.turn(heading)
         print('route: %.1f s wall' % (time.monotonic() - t_route))
         sub.unregister()
@@ -207,7 +201,7 @@ class HalSimTest(unittest.TestCase):
         err = math.hypot(est[0] - tp.position.x, est[1] - tp.position.y)
         dist = truth_path[0]
         print('odometry route: %.2f m travelled, position error %.3f m (%.2f %%), heading error %.3f rad' %
-              (dist, err, 100.0 * err / dist, wrap(est[2] - yaw_of(tp.orientation))))
+              (dist, err, 100.0 * err / dist, wrap_angle(est[2] - yaw_of(tp.orientation))))
         self.assertGreater(dist, 10.0)
         self.assertLess(err, 0.02 * dist)
         cov = self.odom.get().pose.covariance
@@ -251,10 +245,10 @@ class HalSimTest(unittest.TestCase):
         north = rospy.get_param('/hal/compass/north_yaw')
         sign = -1.0 if rospy.get_param('/hal/compass/mounting_clockwise', False) else 1.0
         hal_yaw = [m.yaw for _, m in heading.items]
-        emu_yaw = [wrap(north + sign * math.radians(m.data)) for _, m in bearing.items]
+        emu_yaw = [wrap_angle(north + sign * math.radians(m.data)) for _, m in bearing.items]
         self.assertGreater(len(hal_yaw), 20, 'too few headings')
-        e_emu = wrap(median(hal_yaw) - median(emu_yaw))
-        e_true = wrap(median(hal_yaw) - true_yaw)
+        e_emu = wrap_angle(median(hal_yaw) - median(emu_yaw))
+        e_true = wrap_angle(median(hal_yaw) - true_yaw)
         print('compass: %d headings, median vs the emulated module %.4f rad, vs the true yaw %.3f rad' %
               (len(hal_yaw), e_emu, e_true))
         self.assertLess(abs(e_emu), 0.02)  # the HAL's conversion of what the module measured

@@ -28,7 +28,7 @@ import xmlrpc.client
 
 import rosgraph
 import rospy
-from robot_core.geometry import yaw_of
+from robot_core.geometry import wrap_angle, yaw_of
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Pose2D, PoseWithCovarianceStamped, Twist
@@ -49,12 +49,6 @@ CONVERGED_TH = math.radians(3.0)
 GLOBAL_LIMIT = 10.0      # [s simulated]
 KIDNAP_DETECT_LIMIT = 5.0
 KIDNAP_RECOVER_LIMIT = 15.0
-
-
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 class Record(object):
@@ -129,7 +123,7 @@ class Record(object):
             t0, t1 = self.truth_t[i - 1], self.truth_t[i]
             a, b = self.truth[i - 1], self.truth[i]
         f = (t - t0) / (t1 - t0) if t1 > t0 else 0.0
-        return (a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), wrap(a[2] + f * wrap(b[2] - a[2])))
+        return (a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), wrap_angle(a[2] + f * wrap_angle(b[2] - a[2])))
 
     def latest_truth(self):
         with self.lock:
@@ -143,7 +137,7 @@ class Record(object):
         for t, x, y, th in poses:
             tr = self.truth_at(t)
             if tr is not None:
-                out.append((t, math.hypot(x - tr[0], y - tr[1]), abs(wrap(th - tr[2]))))
+                out.append((t, math.hypot(x - tr[0], y - tr[1]), abs(wrap_angle(th - tr[2]))))
         return out
 
     def count_poses(self, t0, t1):
@@ -245,7 +239,7 @@ class McLSimTest(unittest.TestCase):
             now = rospy.get_time()
             v = min(min(speed, max(0.08, 1.2 * left)), v + 1.0 * (now - t_prev))  # 1 m/s^2: little slip
             t_prev = now
-            w = 2.0 * wrap(math.atan2(y - py, x - px) - pth) if left > 0.05 else 0.0
+            w = 2.0 * wrap_angle(math.atan2(y - py, x - px) - pth) if left > 0.05 else 0.0
             self.drive(v, max(-1.0, min(1.0, w)))
             rospy.sleep(0.02)
         self.pause(0.3)
@@ -253,7 +247,7 @@ class McLSimTest(unittest.TestCase):
     def turn_to(self, heading, pose):
         end = rospy.get_time() + 10.0
         while not rospy.is_shutdown() and rospy.get_time() < end:
-            err = wrap(heading - pose()[2])
+            err = wrap_angle(heading - pose()[2])
             if abs(err) < 0.03:
                 break
             self.drive(0.0, max(-1.5, min(1.5, 2.0 * err + math.copysign(0.4, err))))

@@ -15,6 +15,7 @@ import xml.etree.ElementTree as ET
 
 import rospkg
 import rospy
+from robot_core.geometry import wrap_angle
 import rostest
 import yaml
 from robot_core.config_tree import merged, simulated_robot
@@ -148,7 +149,7 @@ class DescriptionTest(unittest.TestCase):
                 self.assertAlmostEqual(xyz[0], mount[0], delta=0.01, msg='%s %s x' % (robot, link))
                 self.assertAlmostEqual(xyz[1], mount[1], delta=0.01, msg='%s %s y' % (robot, link))
                 if len(mount) >= 3:
-                    d = math.atan2(math.sin(rpy[2] - mount[2]), math.cos(rpy[2] - mount[2]))
+                    d = wrap_angle(rpy[2] - mount[2])
                     self.assertLess(abs(d), 0.02, '%s %s yaw %.3f vs mount %.3f' % (robot, link, rpy[2], mount[2]))
                 checked += 1
         sys.stdout.write('simulated ranger mounts checked against the URDF: %d\n' % checked)
@@ -226,7 +227,7 @@ class DescriptionTest(unittest.TestCase):
                 self.assertEqual(parent, 'base_link')
                 self.assertAlmostEqual(r['x'], xyz[0], delta=1e-3, msg='%s %s x' % (robot, name))
                 self.assertAlmostEqual(r['y'], xyz[1], delta=1e-3, msg='%s %s y' % (robot, name))
-                d = math.atan2(math.sin(rpy[2] - r['yaw']), math.cos(rpy[2] - r['yaw']))
+                d = wrap_angle(rpy[2] - r['yaw'])
                 self.assertLess(abs(d), 1e-3, '%s %s yaw %.4f vs %.4f' % (robot, name, r['yaw'], rpy[2]))
                 checked += 1
         sys.stdout.write('localization ranger mounts checked against the URDF: %d\n' % checked)

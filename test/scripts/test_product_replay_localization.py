@@ -22,7 +22,7 @@ import unittest
 
 import rosbag
 import rospy
-from robot_core.geometry import yaw_of
+from robot_core.geometry import wrap_angle, yaw_of
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
@@ -130,7 +130,7 @@ class ReplayLocalizationTest(unittest.TestCase):
             if o is None:
                 continue
             d = math.hypot(x - o[0], y - o[1])
-            da = abs(math.atan2(math.sin(a - o[2]), math.cos(a - o[2])))
+            da = abs(wrap_angle(a - o[2]))
             matched.append(t)
             worst_xy, worst_yaw = max(worst_xy, d), max(worst_yaw, da)
             if d > 0.01 or da > math.radians(1.0):

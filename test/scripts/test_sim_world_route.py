@@ -13,7 +13,7 @@ import unittest
 
 import rospy
 from robot_core.config_tree import simulated_robot
-from robot_core.geometry import yaw_of
+from robot_core.geometry import wrap_angle, yaw_of
 import rostest
 from nav_msgs.msg import Odometry
 from robot_sim.msg import DebugMotorCommand
@@ -26,12 +26,6 @@ ROUTE = [(0.5, 0.3, 0.3), (2.5, 0.2, -0.2), (3.5, 0.35, 0.25), (5.0, 0.0, 0.0)]
 END = 6.0
 POS_TOL = 0.02   # [m] slip noise and the step grid, not model error
 YAW_TOL = 0.03   # [rad]
-
-
-
-
-def wrap(a):
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 class Motor(object):
@@ -77,7 +71,7 @@ def integrate_route(world, until):
         else:
             x += v / w * (math.sin(th + w * dt) - math.sin(th))
             y -= v / w * (math.cos(th + w * dt) - math.cos(th))
-        th = wrap(th + w * dt)
+        th = wrap_angle(th + w * dt)
         out[k] = (x, y, th)
     return out
 
@@ -146,7 +140,7 @@ class SimWorldRouteTest(unittest.TestCase):
                     continue
                 ex, ey, eth = self.expected[k]
                 worst_pos = max(worst_pos, math.hypot(x - ex, y - ey))
-                worst_yaw = max(worst_yaw, abs(wrap(th - eth)))
+                worst_yaw = max(worst_yaw, abs(wrap_angle(th - eth)))
                 checked += 1
             self.assertGreater(checked, 250, ns)
             self.assertLess(worst_pos, POS_TOL, '%s: position off by %.4f m' % (ns, worst_pos))
@@ -155,7 +149,7 @@ class SimWorldRouteTest(unittest.TestCase):
         x0, y0, _ = self.expected[1]
         xe, ye, the = self.expected[int(round(END / dt))]
         self.assertGreater(math.hypot(xe - x0, ye - y0), 0.5)
-        self.assertGreater(abs(wrap(the - self.world['robot']['start'][2])), 0.5)
+        self.assertGreater(abs(wrap_angle(the - self.world['robot']['start'][2])), 0.5)
 
     def test_3_same_seed_same_trajectory_at_any_real_time_factor(self):
         a, b, c = (self.truth[ns].samples for ns in NAMESPACES)

@@ -82,7 +82,7 @@ class ToolsPackageTest(unittest.TestCase):
 
     def test_the_commands_are_thin_entry_points(self):
         for name in ('run_match', 'run_matches', 'run_chaos', 'tune', 'match_report', 'calibrate', 'robot_install',
-                     'scoreboard', 'soak', 'new_robot', 'replay', 'compass_offset'):
+                     'scoreboard', 'soak', 'new_robot', 'replay', 'compass_offset', 'parameter_tables'):
             with open(os.path.join(ROOT, 'scripts', name + '.py')) as f:
                 text = f.read()
             self.assertIn('from robot_tools.', text, name)

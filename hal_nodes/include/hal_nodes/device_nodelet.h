@@ -3,14 +3,10 @@
 // /effectors/deactivated for effectors, and reports on /diagnostics: rate achieved, the
 // sample age of every input, and why the device is unavailable.
 //
-// Common parameters: ~rate [Hz] (required, > 0), ~max_rate [Hz] (rate .. 10 rate, default the
-// rate: the ceiling of the runs its inputs wake; set it above the rate of the streams that wake
-// the device, see robot_core/loop_pacer.h), ~diagnostic_period [s] (default 1: the status is
-// published this often while its level stays the same, and at once when it changes,
-// robot_core/diagnostic_reporter.h),
-// ~startup_grace [s] (WARN, not ERROR, while unavailable since start; default 5), ~required
-// (default true; false: an optional device, e.g. the joystick's, that the brain's readiness does
-// not wait for; published as the `required` value of its status).
+// Common parameters of every device: read and described in DeviceSettings::read()
+// (the table: hal_nodes/PARAMETERS.md, make docs). ~max_rate paces as robot_core/loop_pacer.h
+// says, ~diagnostic_period as robot_core/diagnostic_reporter.h; ~required is published as the
+// `required` value of the device's status.
 #pragma once
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>

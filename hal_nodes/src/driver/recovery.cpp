@@ -24,19 +24,26 @@ const char* RecoveryStep::name(Kind kind) {
 RecoveryConfig readRecoveryConfig(const robot_core::Params& driver) {
   const robot_core::Params p = driver.block("recovery");
   RecoveryConfig c;
+  p.describe("rear_rangers", "names on avoidance/ranger_prefix looking backwards (back_off needs them)");
   c.rear_rangers = p.optionalStringList("rear_rangers");
+  p.describe("rear_margin", "[m] kept free behind a back-off");
   c.rear_margin = p.optionalDouble("rear_margin", c.rear_margin);
   p.requireInRange("rear_margin", c.rear_margin, 0.0, 1.0);
+  p.describe("behaviors", "the recoveries tried, in this order, before a blocked goal ends BLOCKED");
   for (const robot_core::Params& b : p.items("behaviors")) {
     RecoveryStep s;
+    b.describe("type", "back_off (drive backwards where the rear is free), turn_other_way, or wait (stand still)");
     const std::string type = b.requireString("type");
     b.requireOneOf("type", type, {"back_off", "turn_other_way", "wait"});
     s.kind = type == "back_off" ? RecoveryStep::Kind::BACK_OFF
              : type == "turn_other_way" ? RecoveryStep::Kind::TURN_OTHER_WAY : RecoveryStep::Kind::WAIT;
+    b.describe("distance", "[m] back_off: how far to drive backwards");
     s.distance = b.optionalDouble("distance", s.distance);
     b.requireInRange("distance", s.distance, 0.01, 1.0);
+    b.describe("duration", "[s] wait: how long to stand still");
     s.duration = b.optionalDouble("duration", s.duration);
     b.requireInRange("duration", s.duration, 0.0, 30.0);
+    b.describe("max_speed", "[m/s or rad/s] back_off, turn_other_way: speed limit; 0: the configured limit");
     s.max_speed = b.optionalDouble("max_speed", s.max_speed);
     b.requireInRange("max_speed", s.max_speed, 0.0, 10.0);
     c.steps.push_back(s);

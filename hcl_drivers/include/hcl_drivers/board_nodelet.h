@@ -2,20 +2,13 @@
 // its loop, measures it and reports it on /diagnostics. Board authors never touch this;
 // they export their board with HCL_EXPORT_BOARD (bottom of this file).
 //
-// Common parameters (private namespace of the board):
-//   ~rate             [Hz] polling rate, required, > 0
-//   ~loop             loop group name; boards naming the same loop share one thread (optional)
-//   ~stale_timeout    [s] no good exchange for this long = STALE (default max(0.3, 3 / rate))
-//   ~diagnostic_period [s] how often /diagnostics is published while the level stays the same
-//                     (default 1.0); a change of level is published at once (robot_core/diagnostic_reporter.h)
-//   ~failures_for_error  failed exchanges in a row that make the board ERROR (default 3); fewer
-//                     are a WARN: one late answer on a busy bus is not a fault
-//   ~required         true (default): the robot is not ready for a match without this board;
-//                     false: an optional board (a camera, a joystick), reported but not waited for.
-//                     Published as the `required` value of the board's /diagnostics status.
-//   ~reopen_period    [s] a board whose channel cannot be opened (no /dev/i2c-1, no such
-//                     CAN interface, a serial port unplugged) is STALE and tried again this often
-//                     (default 1.0); the node and its other boards keep running.
+// Common parameters (private namespace of the board, ~rate, ~loop, ~required, ...): read and
+// described in BoardSettings::read() (the table: hcl_drivers/PARAMETERS.md, make docs).
+// A change of diagnostic level is published at once (robot_core/diagnostic_reporter.h); fewer
+// failed exchanges in a row than ~failures_for_error are a WARN: one late answer on a busy bus
+// is not a fault. ~required is published as the `required` value of the board's /diagnostics
+// status. A board whose channel cannot be opened is STALE and retried every ~reopen_period; the
+// node and its other boards keep running.
 #pragma once
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
@@ -35,7 +28,7 @@
 
 namespace hcl_drivers {
 
-// The common parameters above, read by the framework for every board.
+// The common parameters, read by the framework for every board.
 struct BoardSettings {
   double rate = 0.0;
   double stale_timeout = 0.0;

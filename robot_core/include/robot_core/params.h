@@ -6,11 +6,14 @@
 // Strict: a missing required or mistyped value throws ParameterError, one line naming the
 // parameter and quoting the value; integers are accepted as numbers; never a silent default.
 // Every name a reader asks for is remembered (shared by the sub-namespaces): after a reader ran,
-// unasked() lists the values in the tree it never looked at, the misspelt or unknown keys.
+// unasked() lists the values in the tree it never looked at, the misspelt or unknown keys, and
+// declarations() what it declared of each (type, default, allowed range): the generated
+// parameter tables (make docs) come from the readers themselves.
 #pragma once
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -25,6 +28,15 @@ class NodeHandle;
 }
 
 namespace robot_core {
+
+// What a reader declared of one parameter by the way it read it.
+struct ParameterDeclaration {
+  std::string type;      // "number", "integer", "boolean", "string", "list of numbers", ...
+  bool required = false;
+  std::string fallback;  // the default, as the config would write it (optional values)
+  std::string rule;      // what is allowed beyond the type: "> 0", "0 .. 10", "one of: a, b"
+  std::string meaning;   // what it is, in a line (describe())
+};
 
 class Params {
  public:
@@ -83,6 +95,10 @@ class Params {
   // absent, with a warning naming both, so a team's config keeps starting after an update.
   std::string renamed(const std::string& now, const std::string& old) const;
 
+  // What parameter `name` means, in a line ("[s] a command older than this is dropped"): written
+  // beside the read, it is the meaning column of the generated parameter tables.
+  void describe(const std::string& name, const std::string& meaning) const;
+
   // The values under `name` this reader leaves alone in this configuration (a disabled block's
   // settings, kept for when it is enabled again): they are not unknown keys.
   void unused(const std::string& name) const;
@@ -92,7 +108,13 @@ class Params {
   std::vector<std::string> unasked() const;
   // The names asked for directly under this namespace, present or not, sorted: what a reader knows.
   std::vector<std::string> askedKeys() const;
+  // What the readers declared of each parameter under this namespace, by name relative to it; the
+  // entries of a dictionary of named blocks (blockNames) are written "<dict>/<name>/...", the
+  // dictionaries of a list (items) "<list>[]/...".
+  std::map<std::string, ParameterDeclaration> declarations() const;
  private:
+  void declare(const std::string& name, const std::string& type, bool required, const std::string& fallback) const;
+  void declareRule(const std::string& name, const std::string& rule) const;
   XmlRpc::XmlRpcValue* find(const std::string& name) const;  // null when absent; remembers the name
   Params child(XmlRpc::XmlRpcValue tree, std::string ns) const;  // shares the names asked for
   void collectUnasked(XmlRpc::XmlRpcValue& v, const std::string& path, std::vector<std::string>& out) const;
@@ -103,6 +125,8 @@ class Params {
     std::mutex mutex;
     std::set<std::string> names;
     std::set<std::string> unused;  // whole subtrees (unused())
+    std::map<std::string, ParameterDeclaration> declared;  // by qualified name
+    std::set<std::string> block_maps;                      // dictionaries of named blocks (blockNames)
   };
   std::shared_ptr<Asked> asked_ = std::make_shared<Asked>();
 };

@@ -15,6 +15,8 @@ where that zone says."""
 
 import math
 
+from robot_core.geometry import wrap_angle
+
 
 def zone_of(point, zones):
     """The name of the start zone [x0, y0, x1, y1] holding point [x, y, ...], or None."""
@@ -90,7 +92,7 @@ def errors(tree):
 def _mirrored(pose, length):
     """A pose mirrored across the table's middle (x = length / 2): the other side's start."""
     theta = math.pi - float(pose[2]) if len(pose) > 2 else math.pi
-    return [round(length - float(pose[0]), 6), float(pose[1]), round(math.atan2(math.sin(theta), math.cos(theta)), 5)]
+    return [round(length - float(pose[0]), 6), float(pose[1]), round(wrap_angle(theta), 5)]
 
 
 def _place_in(zone, pose, length, width):

@@ -1,23 +1,32 @@
 // The simulator's world read by its own reader (parseWorldConfig), with no master and no world
 // built: /sim/world against /table and /robot of a config file.
-//   check_sim_config CONFIG.yaml     (the robot's config with its sim overlay and overlays merged)
+//   check_sim_config CONFIG.yaml [--describe]  (the robot's config with its sim overlay and overlays merged)
 // The reader's error on one line on stderr (the parameter, the value, what is allowed), exit 1;
-// nothing and exit 0 when the world is accepted or the file has no sim/world block.
+// nothing and exit 0 when the world is accepted or the file has no sim/world block. With
+// --describe, what the reader declared of each /sim/world parameter, a line each on stdout (the
+// generated parameter tables, make docs): "world<tab>name<tab>type<tab>required|optional<tab>default<tab>rule<tab>meaning".
 #include <cstdio>
+#include <string>
 
 #include <robot_core/params.h>
 
 #include "robot_sim/world/config.h"
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: check_sim_config CONFIG.yaml\n");
+  const bool describe = argc == 3 && std::string(argv[2]) == "--describe";
+  if (argc != 2 && !describe) {
+    std::fprintf(stderr, "usage: check_sim_config CONFIG.yaml [--describe]\n");
     return 2;
   }
   try {
     const robot_core::Params all = robot_core::Params::fromYamlFile(argv[1]);
     if (!all.has("sim/world")) return 0;
-    robot_sim::parseWorldConfig(all["sim/world"], all["table"], all["robot"]);
+    const robot_core::Params world = all["sim/world"];
+    robot_sim::parseWorldConfig(world, all["table"], all["robot"]);
+    if (describe)
+      for (const auto& [name, d] : world.declarations())
+        std::printf("world\t%s\t%s\t%s\t%s\t%s\t%s\n", name.c_str(), d.type.c_str(), d.required ? "required" : "optional",
+                    d.fallback.c_str(), d.rule.c_str(), d.meaning.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

@@ -27,8 +27,11 @@ struct ContactSpec {
   static ContactSpec read(const robot_core::Params& params, const std::string& block) {
     const robot_core::Params p = params.block(block);
     ContactSpec c;
+    p.describe("topic", "the board's inputs topic (hcl_drivers/DigitalInputs, /hcl/<board>/inputs)");
     c.topic = p.requireString("topic");
+    p.describe("input", "the board's input name (give this or bit)");
     c.input = p.optionalString("input", "");
+    p.describe("bit", "the input's bit number 0..31 (give this or input)");
     c.bit = p.optionalInt("bit", -1);
     if (c.input.empty() == (c.bit < 0))
       throw robot_core::ParameterError("parameter " + p.qualified("input") + " / " + p.qualified("bit") +
@@ -36,6 +39,7 @@ struct ContactSpec {
     if (c.bit > 31)
       throw robot_core::ParameterError("parameter " + p.qualified("bit") + " = " + std::to_string(c.bit) +
                                        ": must be 0..31");
+    p.describe("invert", "true for a normally-closed switch");
     c.invert = p.optionalBool("invert", false);
     return c;
   }

@@ -7,15 +7,7 @@
 // Distances outside [~min_range, ~max_range] are outliers (no line of sight, echoes): dropped
 // and counted.
 //
-// Parameters (besides ~rate):
-//   ~delta           input topic (required, /hcl/<board>/delta)
-//   ~temperature [degC] (default 20), ~scale (default 1), ~offset [m] (default 0),
-//   ~beacon_offsets  [m] list per beacon id (default [])
-//   ~range_noise     [m] std independent of the distance (default 0.02)
-//   ~range_noise_relative   std per metre of distance (default 0.01)
-//   ~min_range, ~max_range  [m] (default 0.05, 4.0)
-//   ~frame_id        the receiver's frame (default beacon_receiver)
-//   ~max_input_age   [s] no delta for longer: unavailable (default 1.0)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <hal_nodes/BeaconRange.h>
 #include <hal_nodes/FitBeaconEquation.h>
 #include <hal_nodes/SetBeaconEquation.h>
@@ -37,25 +29,36 @@ class BeaconsDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
     BeaconEquation eq;
+    params.describe("temperature", "[degC] the air's temperature, for the speed of sound (mirrored while running)");
     eq.temperature = params.optionalDouble("temperature", 20.0);
     params.requireInRange("temperature", eq.temperature, -40.0, 80.0);
+    params.describe("scale", "the equation's scale: humidity, the receiver's clock (mirrored while running)");
     eq.scale = params.optionalDouble("scale", 1.0);
     params.requireInRange("scale", eq.scale, 0.5, 2.0);
+    params.describe("offset", "[m] the equation's fixed delays: trigger, receiver threshold (mirrored while running)");
     eq.offset = params.optionalDouble("offset", 0.0);
     params.requireInRange("offset", eq.offset, -1.0, 1.0);
+    params.describe("beacon_offsets", "[m] added to each beacon's distance, by beacon id (mirrored while running)");
     eq.beacon_offsets = params.optionalDoubleList("beacon_offsets");
     equation_ = eq;
+    params.describe("range_noise", "[m] the distance's std independent of the distance");
     noise_ = params.optionalDouble("range_noise", 0.02);
     params.requirePositive("range_noise", noise_);
+    params.describe("range_noise_relative", "[m/m] the distance's std per metre of distance");
     noise_rel_ = params.optionalDouble("range_noise_relative", 0.01);
     params.requireInRange("range_noise_relative", noise_rel_, 0.0, 1.0);
+    params.describe("min_range", "[m] shorter distances are outliers: dropped and counted");
     min_range_ = params.optionalDouble("min_range", 0.05);
+    params.describe("max_range", "[m] longer distances are outliers (no line of sight, echoes): dropped and counted");
     max_range_ = params.optionalDouble("max_range", 4.0);
     params.requireInRange("min_range", min_range_, 0.0, 10.0);
     params.requireInRange("max_range", max_range_, min_range_ + 1e-3, 20.0);
+    params.describe("frame_id", "the receiver's frame");
     frame_id_ = params.optionalString("frame_id", "beacon_receiver");
+    params.describe("max_input_age", "[s] no delta for longer: unavailable");
     max_input_age_ = params.optionalDouble("max_input_age", 1.0);
     params.requirePositive("max_input_age", max_input_age_);
+    params.describe("delta", "the receiver's times of flight in (hcl_drivers/BeaconDelta, /hcl/<board>/delta)");
     topic_ = params.requireString("delta");
   }
 

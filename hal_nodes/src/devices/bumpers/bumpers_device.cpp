@@ -5,12 +5,7 @@
 // While a board is stale its contacts are unknown: they are left out of `closed`, no edges
 // are invented, and the device is unavailable naming the board.
 //
-// Parameters (besides ~rate):
-//   ~max_input_age  [s] (default 0.5)
-//   ~contacts/<name>/
-//       topic   the board's inputs topic (/hcl/<board>/inputs), required
-//       input   the board's input name   | bit   its bit number 0..31  (one of the two)
-//       invert  true for a normally-closed switch (default false)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <hal_nodes/Contacts.h>
 #include <hcl_drivers/DigitalInputs.h>
 
@@ -26,9 +21,11 @@ namespace hal_nodes {
 class BumpersDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("max_input_age", "[s] a board whose inputs are older is stale: its contacts are unknown");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
     contacts_.clear();
+    params.describe("contacts", "the switches by name: {topic, input or bit, invert} each (contact_input.h)");
     for (const auto& name : params.requireBlockNames("contacts")) {
       Contact c;
       c.name = name;

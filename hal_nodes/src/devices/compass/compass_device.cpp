@@ -4,13 +4,7 @@
 // the module reads 0 deg (measure it once on the table: it depends on the building), and
 // ~mounting_clockwise says the module turns the usual way (false: mounted upside down).
 //
-// Parameters (besides ~rate):
-//   ~bearing        input topic (required, /hcl/<board>/bearing)
-//   ~north_yaw      [rad] calibration offset (required)
-//   ~mounting_clockwise  (default true)
-//   ~variance       [rad^2] of the heading (default 0.0025, i.e. ~3 deg std)
-//   ~max_input_age  [s] (default 0.5)
-//   ~frame_id       (default map)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <hal_nodes/Heading.h>
 #include <hcl_drivers/Bearing.h>
 
@@ -24,14 +18,20 @@ namespace hal_nodes {
 class CompassDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("north_yaw", "[rad] the map yaw at which the module reads 0 deg (measured on the table)");
     north_yaw_ = params.requireDouble("north_yaw");
     params.requireInRange("north_yaw", north_yaw_, -2 * M_PI, 2 * M_PI);
+    params.describe("mounting_clockwise", "the module turns the usual way (false: mounted upside down)");
     clockwise_ = params.optionalBool("mounting_clockwise", true);
+    params.describe("variance", "[rad^2] the published heading's variance (0.0025: about 3 deg std)");
     variance_ = params.optionalDouble("variance", 0.0025);
     params.requirePositive("variance", variance_);
+    params.describe("max_input_age", "[s] no bearing for longer: unavailable");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
+    params.describe("frame_id", "the published heading's frame");
     frame_id_ = params.optionalString("frame_id", "map");
+    params.describe("bearing", "the module's bearing in (hcl_drivers/Bearing, /hcl/<board>/bearing)");
     bearing_topic_ = params.requireString("bearing");
   }
 

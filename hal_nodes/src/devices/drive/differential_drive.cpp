@@ -11,20 +11,9 @@
 // cmd_vel_timeout), and never during a match: from the start (the latched /effectors/match_end
 // the brain publishes) until its end. A stranger's cmd_vel must not steer a robot in a match.
 //
-// Parameters (besides ~rate):
-//   ~track_width       [m] required, > 0 (distance between the driven wheels)
-//   ~wheel_speed_clamp [m/s] required, > 0; faster commands are scaled down keeping the curvature
-//                      (the effector's last guard; the driver plans within its own limits/max_wheel_speed)
-//   ~max_acceleration  [m/s^2] per wheel, 0 = none (default 0)
-//   ~cmd_timeout       [s] (default 0.3)
-//   ~teleop_topic      (default /cmd_vel; "" disables teleop)
-//   ~teleop_timeout    [s] (default 0.5)
-//   ~wheels/<name>/    one block per motor:
-//       side           left | right
-//       topic          the board's command topic (/hcl/<board>/motor/<motor>/command), required
-//       motor          MotorCommand.name (default: the block name)
-//       units_per_mps  native units per m/s of wheel surface speed, non-zero (sign flips a mirrored motor)
-//       max_value      clamp of the native value, > 0 (required)
+// ~wheel_speed_clamp is the effector's last guard: the driver plans within its own
+// limits/max_wheel_speed.
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <geometry_msgs/Twist.h>
 #include <hcl_drivers/MotorCommand.h>
 #include <std_msgs/Time.h>
@@ -42,38 +31,50 @@ namespace hal_nodes {
 class DifferentialDrive : public Effector {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("track_width", "[m] the distance between the driven wheels");
     track_width_ = params.requireDouble("track_width");
     params.requirePositive("track_width", track_width_);
     const std::string clamp = params.renamed("wheel_speed_clamp", "max_wheel_speed");
+    params.describe(clamp, "[m/s] faster wheel speeds are scaled down keeping the curvature");
     wheel_speed_clamp_ = params.requireDouble(clamp);
     params.requirePositive(clamp, wheel_speed_clamp_);
+    params.describe("max_acceleration", "[m/s^2] the acceleration limit of each wheel (0: none)");
     max_acceleration_ = params.optionalDouble("max_acceleration", 0.0);
     params.requireInRange("max_acceleration", max_acceleration_, 0.0, 1e3);
+    params.describe("cmd_timeout", "[s] a cmd_vel older than this stops the wheels (and lets teleop drive)");
     cmd_timeout_ = params.optionalDouble("cmd_timeout", 0.3);
     params.requirePositive("cmd_timeout", cmd_timeout_);
     bool has_left = false, has_right = false;
     motors_.clear();
+    params.describe("wheels", "the wheel motors, by name; at least one on each side");
     for (const auto& name : params.requireBlockNames("wheels")) {
       const robot_core::Params p = params.block("wheels/" + name);
       Motor m;
+      p.describe("side", "the wheel's side");
       const std::string side = p.requireString("side");
       p.requireOneOf("side", side, {"left", "right"});
       m.left = side == "left";
       (m.left ? has_left : has_right) = true;
+      p.describe("motor", "the MotorCommand's name (absent: the block's name)");
       m.motor = p.optionalString("motor", name);
+      p.describe("units_per_mps", "native units per m/s of wheel surface speed, non-zero (negative: a mirrored motor)");
       m.units_per_mps = p.requireDouble("units_per_mps");
       if (m.units_per_mps == 0.0 || !std::isfinite(m.units_per_mps))
         throw robot_core::ParameterError("parameter " + p.qualified("units_per_mps") + " = 0: must be a non-zero number");
+      p.describe("max_value", "the clamp of the native value sent");
       m.max_value = p.requireInt("max_value");
       p.requirePositive("max_value", m.max_value);
+      p.describe("topic", "the board's command topic out (/hcl/<board>/motor/<motor>/command)");
       m.topic = p.requireString("topic");
       motors_.push_back(std::move(m));
     }
     if (!has_left || !has_right)
       throw robot_core::ParameterError("parameter " + params.qualified("wheels") +
                                        " needs at least one wheel with side: left and one with side: right");
+    params.describe("teleop_timeout", "[s] a teleop command drives this long (diff_drive_controller's cmd_vel_timeout)");
     teleop_timeout_ = params.optionalDouble("teleop_timeout", 0.5);
     params.requirePositive("teleop_timeout", teleop_timeout_);
+    params.describe("teleop_topic", "the teleop commands in (geometry_msgs/Twist; '': no teleop)");
     teleop_topic_ = params.optionalString("teleop_topic", "/cmd_vel");
   }
 

@@ -17,14 +17,14 @@
 // Effector), the goal's own timeout.
 // A passing fault holds the goal instead: the wheels stop at once, the feedback's `waiting`
 // says why, and the goal resumes from where the robot is when the inputs are sound again; only
-// a fault lasting longer than ~max_hold [s] (default 5; 0: end at once) ends the goal with its
+// a fault lasting longer than ~max_hold [s] (0: end at once) ends the goal with its
 // code. The faults: localization older than ~max_pose_age, below ~min_probability or lost
 // (goto, follow_path); odometry older than ~max_odom_age (go_straight, rotate_by); the drive
-// effector's /diagnostics status at ERROR (~motor_status, a status-name prefix, default
-// "hal/drive:"; "" disables). A match is lost by a robot that gives up on a 1 s board outage.
-// (~predict_pose [true]: the map pose is carried from the newest /odom's stamp to now by its twist.)
+// effector's /diagnostics status at ERROR (~motor_status, a status-name prefix; "" disables). A
+// match is lost by a robot that gives up on a 1 s board outage.
+// (~predict_pose: the map pose is carried from the newest /odom's stamp to now by its twist.)
 // A stall blocks the goal: the wheels commanded (>= 0.05 m/s or 0.3 rad/s) while odometry
-// reads no motion for ~stall_timeout [s] (default 1; 0 disables), e.g. pushing a border where no
+// reads no motion for ~stall_timeout [s] (0 disables), e.g. pushing a border where no
 // ranger or bumper sees it. A motor held at stall heats up and the goal makes no progress.
 // A blocked goal (a stall, or a route blocked past ~avoidance/blocked_timeout) first tries the
 // recoveries of ~recovery/behaviors in order (driver/recovery.h: back off where the rear is free,
@@ -43,6 +43,9 @@
 // All callbacks (timer, action servers, subscriptions) run on the nodelet's single-threaded
 // queue, and refresh()/deactivate() are serialized by the framework; the action callbacks only
 // stop the wheels and raise flags, the goal itself is taken over in refresh().
+//
+// Parameters: read and described in configure() (driver_config.cpp, recovery.cpp; the table:
+// hal_nodes/PARAMETERS.md, make docs).
 #pragma once
 
 #include <actionlib/server/simple_action_server.h>
@@ -265,7 +268,7 @@ class Driver : public Effector {
   driver::AutopilotConfig config_;
   driver::PathFollowerConfig path_config_;
   driver::AvoidanceConfig avoidance_config_;  // as configured; init() adds the table's size
-  robot_core::Params avoidance_params_;       // ~avoidance, to name it when the table makes it invalid
+  std::string avoidance_name_;                // qualified ~avoidance, to name it when the table makes it invalid
   driver::RecoveryConfig recovery_config_;
   driver::Autopilot autopilot_;
   driver::StraightMove straight_;

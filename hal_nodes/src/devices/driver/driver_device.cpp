@@ -10,7 +10,7 @@ void Driver::configure(const robot_core::Params& params) {
   // the readers the bench and tests use too
   config_ = readAutopilotConfig(params);
   avoidance_config_ = readAvoidanceConfig(params, config_);
-  avoidance_params_ = params["avoidance"];
+  avoidance_name_ = params.qualified("avoidance");
   settings_ = readDriverDeviceConfig(params);
   path_config_ = readPathFollowerConfig(params);
   recovery_config_ = readRecoveryConfig(params);
@@ -21,9 +21,12 @@ void Driver::init(DeviceContext& ctx) {
   // The table's size is the table's, not the driver's: /table, outside the driver's block.
   AvoidanceConfig av = avoidance_config_;
   const robot_core::Params table = robot_core::Params::of(ros::NodeHandle("/table"));
+  table.describe("length", "[m] x extent of the table (map frame)");
   av.table_length = table.optionalDouble("length", av.table_length);
+  table.describe("width", "[m] y extent of the table (map frame)");
   av.table_width = table.optionalDouble("width", av.table_width);
-  avoidance_params_.check("", av.invalidReason());
+  const std::string why = av.invalidReason();
+  if (!why.empty()) throw robot_core::ParameterError("parameter " + avoidance_name_ + ": " + why);
   const AutopilotConfig& ap = config_;
   autopilot_ = Autopilot(ap);
   straight_ = StraightMove(ap);

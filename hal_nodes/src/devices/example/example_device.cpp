@@ -1,14 +1,9 @@
 // ExampleDevice: the skeleton's device. Turns the example board's dial ADC into a position
 // 0..1 and drives the board's lamp from a brightness 0..1. An Effector: deactivation turns
 // the lamp off and ignores brightness commands. Copy this file to start a new device.
+// ~warn_above shows how a device raises its level on /diagnostics (setCondition).
 //
-// Parameters (besides ~rate):
-//   ~board_state    the board's state topic (default /hcl/example_board/state)
-//   ~board_lamp     the board's lamp command topic (default /hcl/example_board/lamp_pwm)
-//   ~max_input_age  [s] older board data makes the device unavailable (default 0.5)
-//   ~max_command_age [s] an older brightness command is dropped, lamp off (default 0.5)
-//   ~warn_above     dial position above which the device is WARN on /diagnostics (default 1.0:
-//                   never), to show how a device raises its level (setCondition)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 // Topics: ~reading (hal_nodes/ExampleReading, out), ~lamp (std_msgs/Float64 brightness, in).
 #include <hal_nodes/ExampleReading.h>
 #include <hcl_drivers/ExampleBoardState.h>
@@ -25,13 +20,18 @@ namespace hal_nodes {
 class ExampleDevice : public Effector {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("max_input_age", "[s] older board data makes the device unavailable");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
+    params.describe("max_command_age", "[s] an older brightness command is dropped, lamp off");
     max_command_age_ = params.optionalDouble("max_command_age", 0.5);
     params.requirePositive("max_command_age", max_command_age_);
+    params.describe("warn_above", "dial position above which the device is WARN on /diagnostics (1: never)");
     warn_above_ = params.optionalDouble("warn_above", 1.0);
     params.requireInRange("warn_above", warn_above_, 0.0, 1.0);
+    params.describe("board_state", "the board's state topic in (hcl_drivers/ExampleBoardState)");
     board_state_topic_ = params.optionalString("board_state", "/hcl/example_board/state");
+    params.describe("board_lamp", "the board's lamp command topic out (std_msgs/UInt8)");
     board_lamp_topic_ = params.optionalString("board_lamp", "/hcl/example_board/lamp_pwm");
   }
 

@@ -6,18 +6,11 @@
 // when it stops elsewhere (an end switch, a jam) or after ~timeout. A cancel or a
 // deactivation stops the lift where it is (re-targets it to its position) and leaves the
 // fingers as they are (a held column stays held); while deactivated goals are refused.
+// With ~holding_sensor (a switch that sees an element in the hand), the action's feedback and
+// result say `holding`, and ~holding (std_msgs/Bool, latched) follows it, so a strategy counts
+// what it holds, not what it tried.
 //
-// Parameters (besides ~rate):
-//   ~fingers/<name>/{topic (std_msgs/UInt16 pulse [us]), open_us, closed_us}   (required, >= 1)
-//   ~finger_time    [s] (default 0.6)
-//   ~lift/target    the stepper's target topic (std_msgs/Int32), required
-//   ~lift/state     the stepper board's state topic (hcl_drivers/StepperBoardState), required
-//   ~lift/stepper   the stepper's name in that state (required)
-//   ~lift/steps_per_meter  (required, > 0), ~lift/max_height [m] (required, > 0)
-//   ~tolerance_steps (default 5), ~timeout [s] per goal (default 8), ~max_input_age [s] (default 0.5)
-//   ~holding_sensor  a switch that sees an element in the hand (contact_input.h), optional: the
-//                    action's feedback and result say `holding`, and ~holding (std_msgs/Bool,
-//                    latched) follows it, so a strategy counts what it holds, not what it tried
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <actionlib/server/simple_action_server.h>
 #include <hal_nodes/HandAction.h>
 #include <hcl_drivers/StepperBoardState.h>
@@ -39,33 +32,47 @@ class HandEffector : public Effector {
  public:
   void configure(const robot_core::Params& params) override {
     fingers_.clear();
+    params.describe("fingers", "the servo fingers by name (at least one): {topic, open_us, closed_us} each");
     for (const auto& name : params.requireBlockNames("fingers")) {
       const robot_core::Params p = params.block("fingers/" + name);
       Finger f;
+      p.describe("open_us", "[us] the servo's pulse width with the finger open");
       f.open_us = p.requireInt("open_us");
+      p.describe("closed_us", "[us] the servo's pulse width with the finger closed");
       f.closed_us = p.requireInt("closed_us");
       p.requireInRange("open_us", f.open_us, 500, 2500);
       p.requireInRange("closed_us", f.closed_us, 500, 2500);
+      p.describe("topic", "the servo's pulse topic out (std_msgs/UInt16 [us])");
       f.topic = p.requireString("topic");
       fingers_.push_back(std::move(f));
     }
+    params.describe("finger_time", "[s] a finger move succeeds after this (servos have no feedback)");
     finger_time_ = params.optionalDouble("finger_time", 0.6);
     params.requirePositive("finger_time", finger_time_);
     const robot_core::Params lift = params["lift"];
+    lift.describe("target", "the lift stepper's target topic out (std_msgs/Int32, absolute steps)");
     lift_target_topic_ = lift.requireString("target");
+    lift.describe("stepper", "the lift stepper's name in the board's state");
     stepper_ = lift.requireString("stepper");
+    lift.describe("steps_per_meter", "[steps/m] the lift's stepper steps per metre of height");
     steps_per_meter_ = lift.requireDouble("steps_per_meter");
     lift.requirePositive("steps_per_meter", steps_per_meter_);
+    lift.describe("max_height", "[m] the highest lift goal accepted");
     max_height_ = lift.requireDouble("max_height");
     lift.requirePositive("max_height", max_height_);
+    params.describe("tolerance_steps", "[steps] a lift succeeds stopped this close to its target");
     tolerance_ = params.optionalInt("tolerance_steps", 5);
     params.requireInRange("tolerance_steps", tolerance_, 0, 1000);
+    params.describe("timeout", "[s] a goal not done by then aborts (the lift stops where it is)");
     timeout_ = params.optionalDouble("timeout", 8.0);
     params.requirePositive("timeout", timeout_);
+    params.describe("max_input_age", "[s] an older stepper board state (or holding sensor) is stale");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
+    lift.describe("state", "the stepper board's state topic in (hcl_drivers/StepperBoardState)");
     lift_state_topic_ = lift.requireString("state");
     holding_sensor_.reset();
+    params.describe("holding_sensor", "a switch that sees an element in the hand (contact_input.h); optional");
     if (params.has("holding_sensor")) holding_sensor_ = ContactSpec::read(params, "holding_sensor");
   }
 

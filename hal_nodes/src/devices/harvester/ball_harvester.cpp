@@ -6,14 +6,9 @@
 // With ~ball_sensor configured (the throat sensor a swallowed ball passes), ~ball_present
 // (std_msgs/Bool) says a ball is in the mouth, and ~held (std_msgs/Int32, latched) counts what the
 // harvester holds: one more for each ball that passes the sensor while the roller swallows,
-// none once the roller has unloaded for ~empty_after [s] (default 1.5).
+// none once the roller has unloaded for ~empty_after [s].
 //
-// Parameters (besides ~rate):
-//   ~motor_topic   the roller's command topic (/hcl/<board>/motor/<name>/command), required
-//   ~motor         MotorCommand.name (default roller)
-//   ~max_value     native command at speed 1 (e.g. HBmotor duty 127; sign flips), required, != 0
-//   ~ball_sensor   contact (contact_input.h), optional
-//   ~empty_after   [s] of unloading after which nothing is held (default 1.5)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <hcl_drivers/MotorCommand.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
@@ -31,14 +26,20 @@ namespace hal_nodes {
 class BallHarvester : public Effector {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("motor", "the MotorCommand's name");
     motor_ = params.optionalString("motor", "roller");
+    params.describe("max_value",
+                    "native command at speed 1, not 0 (e.g. HBmotor duty 127; negative reverses the roller)");
     max_value_ = params.requireInt("max_value");
     if (max_value_ == 0)
       throw robot_core::ParameterError("parameter " + params.qualified("max_value") + " = 0: must be non-zero");
+    params.describe("motor_topic", "the roller's command topic out (/hcl/<board>/motor/<name>/command)");
     motor_topic_ = params.requireString("motor_topic");
     sensor_.reset();
+    params.describe("ball_sensor", "the throat switch a swallowed ball passes (contact_input.h); optional");
     if (params.has("ball_sensor")) {
       sensor_ = ContactSpec::read(params, "ball_sensor");
+      params.describe("empty_after", "[s] of unloading after which nothing is held (with ball_sensor)");
       empty_after_ = params.optionalDouble("empty_after", 1.5);
       params.requirePositive("empty_after", empty_after_);
     } else {

@@ -5,19 +5,10 @@
 // match start, latched until the device restarts), the selected side and strategy, and key
 // edges. Side and strategy are chosen before the start and frozen after it. The choice and
 // the state are shown on the LCD or on LEDs; the brain may put text on the LCD's second
-// line through ~text (std_msgs/String).
+// line through ~text (std_msgs/String). Keys are reported as edges; the keys `next_strategy`
+// and `toggle_side` (without a side switch) also change the choice.
 //
-// Parameters (besides ~rate):
-//   ~start_cord   contact (contact_input.h): closed = cord inserted (required)
-//   ~sides        the two sides/colours, e.g. [blue, yellow] (required, 2 names)
-//   ~side_switch  contact: open = sides[0], closed = sides[1] (optional; else the toggle_side key)
-//   ~strategies   the strategy names offered (required, >= 1); the first is the default
-//   ~keys/<name>  contacts reported as key edges; `next_strategy` and `toggle_side` also act
-//   ~display      lcd | leds | none (default none)
-//   ~lcd          the LCD topic (std_msgs/String, lines separated by '\n'), for display: lcd
-//   ~leds         the LED output topic (std_msgs/UInt16 bits), for display: leds
-//   ~led_bits/{armed, started, side}   output bit numbers 0..15 (display: leds)
-//   ~max_input_age [s] (default 0.5)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <hal_nodes/HumanInput.h>
 #include <std_msgs/String.h>
 #include <std_msgs/UInt16.h>
@@ -33,30 +24,47 @@ namespace hal_nodes {
 class HumanInterface : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("max_input_age", "[s] a board whose inputs are older makes the device unavailable");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
+    params.describe("start_cord", "the start cord's switch (contact_input.h): closed = cord inserted");
     cord_ = ContactSpec::read(params, "start_cord");
+    params.describe("sides", "the two sides/colours, e.g. [blue, yellow]");
     sides_ = params.optionalStringList("sides", {});
     if (sides_.size() != 2)
       throw robot_core::ParameterError("parameter " + params.qualified("sides") + " must list exactly 2 names");
     side_switch_.reset();
+    params.describe("side_switch",
+                    "switch (contact_input.h): open = sides[0], closed = sides[1]; none: the toggle_side key");
     if (params.has("side_switch")) side_switch_ = ContactSpec::read(params, "side_switch");
+    params.describe("strategies", "the strategy names offered (at least one); the first is the default");
     strategies_ = params.optionalStringList("strategies", {});
     if (strategies_.empty())
       throw robot_core::ParameterError("parameter " + params.qualified("strategies") +
                                        " must list at least one strategy");
     keys_.clear();
+    params.describe("keys", "switches by name (contact_input.h) reported as key edges");
     for (const auto& k : params.blockNames("keys")) keys_.push_back(Key{k, ContactSpec::read(params, "keys/" + k)});
+    params.describe("display", "where the choice and the state are shown: lcd, leds or none");
     display_ = params.optionalString("display", "none");
     params.requireOneOf("display", display_, {"lcd", "leds", "none"});
     // the other display's settings, kept for when it is chosen again, are not unknown keys
     for (const char* other : {"lcd", "leds", "led_bits"})
       if (display_ != (std::string(other) == "led_bits" ? "leds" : other)) params.unused(other);
-    if (display_ == "lcd") lcd_topic_ = params.requireString("lcd");
+    if (display_ == "lcd") {
+      params.describe("lcd", "the LCD topic out (std_msgs/String, lines separated by '\\n'), for display lcd");
+      lcd_topic_ = params.requireString("lcd");
+    }
     if (display_ == "leds") {
+      params.describe("leds", "the LED output topic (std_msgs/UInt16 bits), for display leds");
       leds_topic_ = params.requireString("leds");
-      for (const char* n : {"armed", "started", "side"}) {
+      const std::pair<const char*, const char*> bits[] = {
+          {"armed", "output bit 0..15 lit while the cord is in before the start (display leds)"},
+          {"started", "output bit 0..15 lit once the match started (display leds)"},
+          {"side", "output bit 0..15 lit for sides[1] (display leds)"}};
+      for (const auto& [n, meaning] : bits) {
         const std::string name = std::string("led_bits/") + n;
+        params.describe(name, meaning);
         const int b = params.requireInt(name);
         params.requireInRange(name, b, 0, 15);
         led_bits_[n] = b;

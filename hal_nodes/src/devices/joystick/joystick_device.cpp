@@ -8,13 +8,7 @@
 // The device samples the pad at ~rate: a tap shorter than one period can be missed, so run
 // it at the board's rate (50 Hz is plenty for a hand).
 //
-// Parameters (besides ~rate):
-//   ~joy            input topic (required, /hcl/<board>/joy)
-//   ~axes           name: index   (required, at least one axis or button overall)
-//   ~buttons        name: index
-//   ~inverted_axes  list of axis names whose sign flips (default [])
-//   ~dead_zone      0..0.9 (default 0.05)
-//   ~max_input_age  [s] (default 0.5)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <hal_nodes/JoystickEvent.h>
 #include <hal_nodes/JoystickState.h>
 #include <sensor_msgs/Joy.h>
@@ -30,11 +24,14 @@ namespace hal_nodes {
 class JoystickDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("axes", "name: index in the pad's Joy axes (at least one axis or button overall)");
     axes_ = params.optionalIntMap("axes");
+    params.describe("buttons", "name: index in the pad's Joy buttons");
     buttons_ = params.optionalIntMap("buttons");
     if (axes_.empty() && buttons_.empty())
       throw robot_core::ParameterError("parameters " + params.qualified("axes") + " / " + params.qualified("buttons") +
                                        ": name at least one axis or button (name: index)");
+    params.describe("inverted_axes", "names of the axes whose sign flips");
     const auto inverted = params.optionalStringList("inverted_axes", {});
     for (const auto& n : inverted) {
       if (std::none_of(axes_.begin(), axes_.end(), [&](const auto& a) { return a.first == n; }))
@@ -43,11 +40,14 @@ class JoystickDevice : public Device {
     }
     invert_.clear();
     for (const auto& a : axes_) invert_.push_back(std::find(inverted.begin(), inverted.end(), a.first) != inverted.end());
+    params.describe("dead_zone", "axis values within it read 0; the rest is rescaled to stay continuous");
     dead_zone_ = params.optionalDouble("dead_zone", 0.05);
     params.requireInRange("dead_zone", dead_zone_, 0.0, 0.9);
+    params.describe("max_input_age", "[s] an older Joy makes the pad stale: buttons released, axes 0");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
     held_.assign(buttons_.size(), false);
+    params.describe("joy", "the pad's input topic (sensor_msgs/Joy, /hcl/<board>/joy)");
     joy_topic_ = params.requireString("joy");
   }
 

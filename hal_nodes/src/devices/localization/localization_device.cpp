@@ -21,49 +21,13 @@
 // /global_localization and /request_nomotion_update (std_srvs/Empty).
 // In: /initialpose (rviz "2D Pose Estimate"); service ~global_localization (std_srvs/Empty).
 //
-// Parameters (besides ~rate; all optional, defaults in brackets):
-//   ~seed [1]  ~particles [2000]  ~min_particles [200]  ~adaptive [true] (KLD)
-//   ~kld_epsilon [0.02] ~kld_z [2.33] ~kld_bin_xy [0.02 m] ~kld_bin_theta [0.05 rad]
-//   ~resampling [systematic] (multinomial|residual|stratified|systematic)  ~ess_threshold [0.5]
-//   ~alpha_slow [0.01] ~alpha_fast [0.2] ~lost_ratio [0.05] ~reset_fraction [1.0] ~recovery_time [2 s]
-//   ~quality_tolerance [0.05 m] ("right" = within this of the truth) ~track_hazard [1e-4] (filter.h)
-//   ~contradiction_nis [9] ~contradiction_window [1 s] ~contradiction_count [10]: lost (kidnap) when
-//             the median normalized innovation of the last window's measurements is above it;
-//             ~roughen_nis [2]: above this median the set is roughened (a slip to catch up with)
-//   ~input_contradiction_count [5] ~input_reset_fraction [0.5]: one input whose own median is
-//             above ~contradiction_nis redraws what it measures in that share of the set (the
-//             compass after a slip turned the estimate, while the beacons agree)
-//   ~heading_known_std [0.1 rad]: after a reset from beacon ranges (no heading), the heading is
-//             unknown until the set's heading spread is below this; until the robot first moves, its set
-//             keeps every heading and "found" is judged on the position alone (filter.h). 0: off
-//   ~jitter_xy [0.002 m]: position jitter at every resampling, so that a robot standing still
-//             (no motion noise) keeps a cloud that can follow the beacons (filter.h)
-//   ~cluster_bin_xy [0.10 m] ~cluster_bin_theta [0.20 rad]: the grid the cloud is clustered on
-//             when it spreads wider than one cell (the estimate is then the heaviest cluster's)
-//   ~robot_radius [0.0 m]: the table margin   ~obstacles: list of [x0, y0, x1, y1] fixed obstacles
-//   ~initial_pose [x, y, theta]: start there (else entirely lost: global localization)
-//   ~initial_std_xy [0.02]  ~initial_std_theta [0.02]
-//   ~lost_error_after [1 s]: a filter lost this long is unavailable (ERROR on /diagnostics); a shorter
-//             spell (a sensor reset after a slip against a wall, re-localized from the beacons within
-//             the second) is a WARN: the quality says lost all along, so the driver holds meanwhile
-//   ~save_pose_rate [0.5 Hz, simulated time in simulation; 0: never]: the estimate, while not lost,
-//             is written back to ~initial_pose, ~initial_std_xy and ~initial_std_theta (amcl's
-//             save_pose_rate), so a respawned HAL resumes where the robot was
-//   ~odom_topic [/odom]  ~pairs/<name>/{topic, reliability}: encoder pairs (else /odom alone)
-//   ~motion/{trans_per_trans, trans_per_rot, lateral_per_trans, rot_per_trans, rot_per_rot,
-//            slip_probability, slip_trans, slip_rot, slip_accel [5 m/s^2, 0: no detection], slip_margin [0.001 m]}
-//   ~beacons/{enabled [true], topic [/hal/beacons/ranges], reliability [1], range_std [0.015],
-//             use_measurement_variance [true], range_std_auto [false], outlier_probability [0.05],
-//             outlier_span [0.6], intersection_gain [4], intersection_below [0.5], belt_max_age [0.25],
-//             max_speed [1.0]}
-//   ~compass/{enabled [false], topic [/hal/compass/heading], reliability [0.5], std [0.05],
-//             use_measurement_variance [true], outlier_probability [0.1], min_interval [0.1]}
-//   ~rangers_reliability [0.5]  ~rangers/<name>/{topic [/hal/rangers/<name>], x, y, yaw,
-//             min_range [0.03], max_range [2.0], std [0.02], short_probability [0.2], min_interval [0.05],
-//             beam_width [-1: each reading's field_of_view; rad, full cone: the nearest echo in it]}
-//   ~bumpers_topic [/hal/bumpers/contacts]  ~bumpers/<name>/{x, y}  ~bumpers_reliability [0.5]
-//   ~map_frame [map] ~odom_frame [odom] ~base_frame [base_link] ~publish_tf [true]
-//   ~transform_tolerance [0.1 s]  ~latency [0.05 s]  ~cloud_rate [5 Hz]
+// Parameters: read and described in readLocalizationConfig() (localization_config.cpp; the table:
+// hal_nodes/PARAMETERS.md, make docs); the filter's settings are explained in mcl/filter.h.
+// A filter lost for less than ~lost_error_after (a sensor reset after a slip against a wall,
+// re-localized from the beacons within the second) is a WARN, not an ERROR: the quality says lost
+// all along, so the driver holds meanwhile. While not lost, the estimate is written back to
+// ~initial_pose, ~initial_std_xy and ~initial_std_theta (amcl's save_pose_rate), so a respawned
+// HAL resumes where the robot was.
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <hal_nodes/BeaconRange.h>
 #include <hal_nodes/Contacts.h>

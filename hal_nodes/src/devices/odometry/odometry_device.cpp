@@ -9,18 +9,7 @@
 // gap is still counted: nobody else saw it). With every pair stale the device publishes
 // nothing (it never extrapolates) and reports STALE on /diagnostics.
 //
-// Parameters (besides ~rate):
-//   ~topic           output topic (default /odom)
-//   ~odom_frame      (default odom)      ~base_frame (default base_link)
-//   ~publish_tf      broadcast odom -> base_frame (default true)
-//   ~max_input_age   [s] older counters make a pair stale (default 0.2)
-//   ~plausible_wheel_speed [m/s] a larger implied wheel speed is a bad sample: dropped, re-baselined (default 5)
-//   ~pairs/<name>/   one block per encoder pair:
-//       left, right                encoder topics (hcl_drivers/EncoderCounter), required
-//       left_ticks_per_meter, right_ticks_per_meter   required, non-zero (sign flips a mirrored encoder)
-//       track_width                [m] required, > 0
-//       reliability                fusion weight, (0, 1] (default 1)
-//       distance_noise [m/sqrt(m)], heading_noise [rad/sqrt(m)], rotation_noise [rad/sqrt(rad)] (default 0.01 each)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <geometry_msgs/TransformStamped.h>
 #include <hcl_drivers/EncoderCounter.h>
 #include <nav_msgs/Odometry.h>
@@ -59,33 +48,49 @@ void fillPose(const PoseIntegrator& p, nav_msgs::Odometry& m) {
 class OdometryDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("odom_frame", "the odometry's frame (the published pose's parent)");
     odom_frame_ = params.optionalString("odom_frame", "odom");
+    params.describe("base_frame", "the robot's frame");
     base_frame_ = params.optionalString("base_frame", "base_link");
+    params.describe("publish_tf", "broadcast the tf odom_frame -> base_frame");
     publish_tf_ = params.optionalBool("publish_tf", true);
+    params.describe("max_input_age", "[s] a pair whose counters are older than this is stale and drops out");
     max_input_age_ = params.optionalDouble("max_input_age", 0.2);
     params.requirePositive("max_input_age", max_input_age_);
     const std::string plausible = params.renamed("plausible_wheel_speed", "max_wheel_speed");
+    params.describe(plausible, "[m/s] a larger implied wheel speed is a bad sample: dropped, the pair re-baselined");
     plausible_wheel_speed_ = params.optionalDouble(plausible, 5.0);
     params.requirePositive(plausible, plausible_wheel_speed_);
+    params.describe("topic", "the fused odometry out (nav_msgs/Odometry)");
     topic_ = params.optionalString("topic", "/odom");
     pairs_.clear();
+    params.describe("pairs", "the encoder pairs, by name: each fused by reliability and also published on ~<name>");
     for (const auto& name : params.requireBlockNames("pairs")) {
       const robot_core::Params p = params.block("pairs/" + name);
       Pair pair;
       pair.name = name;
+      p.describe("left_ticks_per_meter", "[1/m] left encoder ticks per metre, non-zero (negative: a mirrored encoder)");
       pair.model.left_m_per_tick = 1.0 / nonZero(p, "left_ticks_per_meter");
+      p.describe("right_ticks_per_meter", "[1/m] right encoder ticks per metre, non-zero (negative: a mirrored encoder)");
       pair.model.right_m_per_tick = 1.0 / nonZero(p, "right_ticks_per_meter");
+      p.describe("track_width", "[m] the distance between this pair's wheels");
       pair.model.track_width = p.requireDouble("track_width");
       p.requirePositive("track_width", pair.model.track_width);
+      p.describe("reliability", "this pair's weight in the fusion");
       pair.reliability = p.optionalDouble("reliability", 1.0);
       p.requireInRange("reliability", pair.reliability, 1e-6, 1.0);
+      p.describe("distance_noise", "[m/sqrt(m)] the distance's std after 1 m");
       pair.model.distance_noise = p.optionalDouble("distance_noise", 0.01);
+      p.describe("heading_noise", "[rad/sqrt(m)] the heading's std after 1 m straight");
       pair.model.heading_noise = p.optionalDouble("heading_noise", 0.01);
+      p.describe("rotation_noise", "[rad/sqrt(rad)] the heading's std after a 1 rad turn");
       pair.model.rotation_noise = p.optionalDouble("rotation_noise", 0.01);
       p.requireInRange("distance_noise", pair.model.distance_noise, 0.0, 1.0);
       p.requireInRange("heading_noise", pair.model.heading_noise, 0.0, 1.0);
       p.requireInRange("rotation_noise", pair.model.rotation_noise, 0.0, 1.0);
+      p.describe("left", "the left encoder's counter topic in (hcl_drivers/EncoderCounter)");
       pair.left_topic = p.requireString("left");
+      p.describe("right", "the right encoder's counter topic in (hcl_drivers/EncoderCounter)");
       pair.right_topic = p.requireString("right");
       pairs_.push_back(std::move(pair));
     }

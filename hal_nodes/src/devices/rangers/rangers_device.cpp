@@ -4,15 +4,7 @@
 // nonsense values, peaks and noise; only new board readings enter it. A stale ranger
 // publishes nothing and is named in the unavailability reason.
 //
-// Parameters (besides ~rate):
-//   ~max_input_age  [s] (default 0.5)
-//   ~window, ~smoothing, ~step, ~nearer_at_once   filter defaults for all rangers (5, 0.5,
-//                   0.10 m, false; range_filter.h)
-//   ~rangers/<name>/
-//       topic       the board's Range topic (/hcl/<board>/range/<name>), required
-//       frame_id    output frame (default: the board message's frame_id)
-//       min_range, max_range  [m] override the board's limits (default: the message's)
-//       window, smoothing, step, nearer_at_once  per-ranger filter settings
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <sensor_msgs/Range.h>
 
 #include <cmath>
@@ -26,18 +18,24 @@ namespace hal_nodes {
 class RangersDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("max_input_age", "[s] a ranger whose newest board reading is older is stale");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
-    const RangeFilterConfig defaults = readFilter(params, RangeFilterConfig());
+    const RangeFilterConfig defaults = readFilter(params, RangeFilterConfig(), "; every ranger's default");
     rangers_.clear();
+    params.describe("rangers", "the distance sensors, by name: each published filtered on ~<name>");
     for (const auto& name : params.requireBlockNames("rangers")) {
       const robot_core::Params p = params.block("rangers/" + name);
       Ranger r;
       r.name = name;
-      r.filter = RangeFilter(readFilter(p, defaults));
+      r.filter = RangeFilter(readFilter(p, defaults, "; this ranger's, else the device's"));
+      p.describe("frame_id", "output frame ('': the board message's frame_id)");
       r.frame_id = p.optionalString("frame_id", "");
+      p.describe("min_range", "[m] overrides the board's minimum range (< 0: the message's)");
       r.min_range = p.optionalDouble("min_range", -1.0);
+      p.describe("max_range", "[m] overrides the board's maximum range (<= 0: the message's)");
       r.max_range = p.optionalDouble("max_range", -1.0);
+      p.describe("topic", "the board's Range topic in (/hcl/<board>/range/<name>)");
       r.topic = p.requireString("topic");
       rangers_.push_back(std::move(r));
     }
@@ -94,17 +92,23 @@ class RangersDevice : public Device {
     ros::Time last_stamp;
   };
 
-  static RangeFilterConfig readFilter(const robot_core::Params& p, const RangeFilterConfig& d) {
+  // The filter's settings (range_filter.h); `whose` ends each meaning (the defaults or one ranger's).
+  static RangeFilterConfig readFilter(const robot_core::Params& p, const RangeFilterConfig& d,
+                                      const std::string& whose) {
     RangeFilterConfig c;
+    p.describe("window", "readings whose median replaces a jump, odd 1..51" + whose);
     const int window = p.optionalInt("window", static_cast<int>(d.window));
     if (window < 1 || window % 2 == 0 || window > 51)
       throw robot_core::ParameterError("parameter " + p.qualified("window") + " = " + std::to_string(window) +
                                        ": must be odd, 1..51");
     c.window = static_cast<std::size_t>(window);
+    p.describe("smoothing", "weight of the newest value in the moving average (1: no smoothing)" + whose);
     c.smoothing = p.optionalDouble("smoothing", d.smoothing);
     p.requireInRange("smoothing", c.smoothing, 1e-3, 1.0);
+    p.describe("step", "[m] a reading further than this from the trend is a jump" + whose);
     c.step = p.optionalDouble("step", d.step);
     p.requirePositive("step", c.step);
+    p.describe("nearer_at_once", "a jump to a nearer range passes at once (collision guards)" + whose);
     c.nearer_at_once = p.optionalBool("nearer_at_once", d.nearer_at_once);
     return c;
   }

@@ -11,17 +11,9 @@
 // and intersected with the horizontal plane at the anchor's height. Points off the table
 // are dropped. The covariance grows with distance: a pixel error of ~pixel_std is
 // ~pixel_std/fx rad across the ray, stretched along it by 1/sin(depression angle).
+// The device samples the newest image at its ~rate.
 //
-// Parameters (besides ~rate; the device samples the newest image at its rate):
-//   ~image           input topic (sensor_msgs/Image, /hcl/<board>/image), required
-//   ~map_frame       (default map)      ~camera_frame (default: the image's frame_id)
-//   ~horizontal_fov  [rad] (default 1.0) or ~fx, ~fy, ~cx, ~cy [px]
-//   ~pixel_std       [px] (default 2)   ~max_input_age [s] (default 0.5)
-//   ~table/length, ~table/width [m] (default 3.0, 2.1)
-//   ~elements/<kind>/
-//       hsv_min, hsv_max   [h, s, v] OpenCV ranges (h 0..180); h_min > h_max wraps (reds)
-//       anchor             center | bottom   z  [m] height of the anchor (ball: its radius; column: 0)
-//       min_area_px        (default 30)
+// Parameters: read and described in configure() (the table: hal_nodes/PARAMETERS.md, make docs).
 #include <cv_bridge/cv_bridge.h>
 #include <hal_nodes/GameElements.h>
 #include <sensor_msgs/Image.h>
@@ -43,41 +35,59 @@ namespace hal_nodes {
 class VisionDevice : public Device {
  public:
   void configure(const robot_core::Params& params) override {
+    params.describe("map_frame", "the frame the elements are published in");
     map_frame_ = params.optionalString("map_frame", "map");
+    params.describe("camera_frame", "the camera's optical frame ('': the image's frame_id)");
     camera_frame_ = params.optionalString("camera_frame", "");
+    params.describe("horizontal_fov", "[rad] the camera's horizontal field of view (when fx is not given)");
     hfov_ = params.optionalDouble("horizontal_fov", 1.0);
     params.requireInRange("horizontal_fov", hfov_, 0.1, 3.0);
+    params.describe("fx", "[px] focal length in x (<= 0: from horizontal_fov)");
     fx_ = params.optionalDouble("fx", 0.0);
+    params.describe("fy", "[px] focal length in y (<= 0: fx)");
     fy_ = params.optionalDouble("fy", fx_);
+    params.describe("cx", "[px] principal point x (< 0: the image's centre)");
     cx_ = params.optionalDouble("cx", -1.0);
+    params.describe("cy", "[px] principal point y (< 0: the image's centre)");
     cy_ = params.optionalDouble("cy", -1.0);
+    params.describe("pixel_std", "[px] the anchor pixel's error, for the covariance");
     pixel_std_ = params.optionalDouble("pixel_std", 2.0);
     params.requirePositive("pixel_std", pixel_std_);
+    params.describe("max_input_age", "[s] an older image makes the device unavailable");
     max_input_age_ = params.optionalDouble("max_input_age", 0.5);
     params.requirePositive("max_input_age", max_input_age_);
+    params.describe("table/length", "[m] x extent of the table: points off it are dropped");
     table_length_ = params["table"].optionalDouble("length", 3.0);
+    params.describe("table/width", "[m] y extent of the table: points off it are dropped");
     table_width_ = params["table"].optionalDouble("width", 2.1);
     kinds_.clear();
+    params.describe("elements", "the kinds of game element to find, by name: a colour range each");
     for (const auto& kind : params.requireBlockNames("elements")) {
       const robot_core::Params p = params.block("elements/" + kind);
       Kind k;
       k.name = kind;
+      p.describe("hsv_min", "[h, s, v] lower bound, OpenCV ranges (h 0..180, s and v 0..255)");
       const auto lo = p.optionalDoubleList("hsv_min");
+      p.describe("hsv_max", "[h, s, v] upper bound; h_min > h_max wraps round (reds)");
       const auto hi = p.optionalDoubleList("hsv_max");
       if (lo.size() != 3 || hi.size() != 3)
         throw robot_core::ParameterError("parameters " + p.qualified("hsv_min") +
                                          " and hsv_max must be [h, s, v] (h 0..180, s and v 0..255)");
       k.lo = cv::Scalar(lo[0], lo[1], lo[2]);
       k.hi = cv::Scalar(hi[0], hi[1], hi[2]);
+      p.describe("anchor", "the blob's pixel cast as a ray: center (a ball) or bottom (a column on the table)");
       const std::string anchor = p.optionalString("anchor", "center");
       p.requireOneOf("anchor", anchor, {"center", "bottom"});
       k.bottom = anchor == "bottom";
+      p.describe("z", "[m] height of the anchor (a ball: its radius; a column: 0)");
       k.z = p.requireDouble("z");
       p.requireInRange("z", k.z, 0.0, 1.0);
+      p.describe("min_area_px", "[px^2] smaller blobs are not candidates");
       k.min_area = p.optionalDouble("min_area_px", 30.0);
       p.requirePositive("min_area_px", k.min_area);
       kinds_.push_back(k);
     }
+    params.describe("image", "the camera's image topic in (sensor_msgs/Image, /hcl/<board>/image)");
     image_topic_ = params.requireString("image");
   }
 

@@ -1,7 +1,6 @@
-// The I2C part of every I2C board's configuration, read the same way by each of them:
-//   ~bus          /dev/i2c-N (robot) or sim:///PATH (emulator socket), required
-//   ~address      7-bit address, within the part's range (YAML accepts 0x70), required
-//   ~bus_timeout  [s] per attempt (default 0.02), ~bus_retries extra attempts (default 2, 0..10)
+// The I2C part of every I2C board's configuration (~bus, ~address, ~bus_timeout, ~bus_retries),
+// read the same way by each of them: read and described in I2cConfig::read() (the table:
+// hcl_drivers/PARAMETERS.md, make docs).
 // Boards naming the same bus share one I2cBus (and belong on one loop group: `loop: i2c-1`).
 #pragma once
 
@@ -25,7 +24,7 @@ struct I2cDevice {
   uint8_t address = 0;
 };
 
-// The I2C parameters above, read by the board's configure().
+// The I2C parameters, read by the board's configure().
 struct I2cConfig {
   std::string bus;        // URL
   std::string bus_param;  // "/hcl/<board>/bus", for messages

@@ -4,12 +4,8 @@
 // service() publishes the newest frame at ~rate if it is new. A camera that stops
 // delivering is released and reopened every ~reopen_period.
 //
-// Parameters (besides rate/loop):
-//   ~device          "0" / "/dev/video0" (V4L2) or a URL (simulation: http://127.0.0.1:PORT/camera.mjpg), required
-//   ~width ~height   requested size for V4L2 (default 0 = device default)
-//   ~fps             requested frame rate for V4L2 (default 0 = device default)
-//   ~frame_id        default "<board name>_optical_frame" (REP-103 optical frame from the URDF)
-//   ~reopen_period   [s] (default 1.0)
+// Parameters (besides rate/loop): read and described in configure() (the table:
+// hcl_drivers/PARAMETERS.md, make docs).
 // Topics: ~image (sensor_msgs/Image, bgr8), ~state (hcl_drivers/CameraState, latched).
 #include <hcl_drivers/CameraState.h>
 #include <sensor_msgs/Image.h>
@@ -37,16 +33,23 @@ class Camera : public Board {
   }
 
   void configure(const robot_core::Params& p) override {
+    p.describe("device", "\"0\" / \"/dev/video0\" (V4L2) or a URL (simulation: http://127.0.0.1:PORT/camera.mjpg)");
     device_ = p.requireString("device");
+    p.describe("width", "[px] requested image width for V4L2; 0 = the device's default");
     width_ = p.optionalInt("width", 0);
     p.requireInRange("width", width_, 0, 8192);
+    p.describe("height", "[px] requested image height for V4L2; 0 = the device's default");
     height_ = p.optionalInt("height", 0);
     p.requireInRange("height", height_, 0, 8192);
+    p.describe("fps", "[Hz] requested frame rate for V4L2; 0 = the device's default");
     fps_ = p.optionalDouble("fps", 0.0);
     p.requireInRange("fps", fps_, 0.0, 240.0);
+    p.describe("reopen_period", "[s] a camera that cannot be opened or stops delivering is released and reopened this often");
     reopen_period_ = p.optionalDouble("reopen_period", 1.0);
     p.requirePositive("reopen_period", reopen_period_);
+    p.describe("frame_id", "frame of the images: the REP-103 optical frame from the URDF; when absent <board name>_optical_frame");
     frame_id_ = p.optionalString("frame_id", p.ns().substr(p.ns().rfind('/') + 1) + "_optical_frame");
+    p.describe("check_window", "[s] how long the hardware doctor watches the frames (their size and rate)");
     check_window_ = p.optionalDouble("check_window", 2.0);  // the doctor's
   }
 
@@ -59,7 +62,7 @@ class Camera : public Board {
     grabber_ = std::thread([this] { grab(); });
   }
 
-  // The doctor: the camera opens and delivers frames for ~check_window seconds (default 2):
+  // The doctor: the camera opens and delivers frames for ~check_window seconds:
   // their size and rate against ~width/~height/~fps.
   void check(BoardContext& /*ctx*/, CheckReport& report) override {
     const std::string& device = device_;

@@ -11,6 +11,7 @@ using robot_core::ParameterError;
 using transport::BusState;
 
 std::string CanopenBoard::busParam(const robot_core::Params& p) {
+  p.describe("bus", "the CAN bus: socketcan://IFACE or udp://127.0.0.1:PORT (simulation)");
   const std::string url = p.requireString("bus");
   try {
     const auto ep = transport::parseEndpoint(url);
@@ -23,6 +24,7 @@ std::string CanopenBoard::busParam(const robot_core::Params& p) {
 }
 
 int CanopenBoard::nodeIdParam(const robot_core::Params& p) {
+  p.describe("node_id", "CANopen node id of the board, 1..127");
   const int id = p.requireInt("node_id");
   if (!canopen::validNodeId(id))
     throw ParameterError("parameter " + p.qualified("node_id") + " = " + std::to_string(id) +
@@ -33,19 +35,28 @@ int CanopenBoard::nodeIdParam(const robot_core::Params& p) {
 void CanopenBoard::configure(const robot_core::Params& p) {
   // The polling rate, for the defaults below: required and checked by the framework
   // (BoardSettings) before configure(); the doctor polls nothing and takes 10 Hz when absent.
+  p.describe("rate", "[Hz] polling rate of the board");
   const double rate = p.optionalDouble("rate", 10.0);
   p.requirePositive("rate", rate);
   url_ = busParam(p);
   node_id_ = nodeIdParam(p);
+  p.describe("answer_timeout", "[s] wait for the PDOs requested by RTR in a poll");
   answer_timeout_ = p.optionalDouble("answer_timeout", std::min(0.02, 0.5 / rate));
   p.requirePositive("answer_timeout", answer_timeout_);
+  p.describe("sdo_timeout", "[s] wait for an SDO answer");
   sdo_timeout_ = p.optionalDouble("sdo_timeout", 0.05);
   p.requirePositive("sdo_timeout", sdo_timeout_);
+  p.describe("command_timeout", "[s] a command older than this is dropped and the actuator stopped");
   command_timeout_ = p.optionalDouble("command_timeout", 0.25);
   p.requirePositive("command_timeout", command_timeout_);
+  p.describe("stale_timeout", "[s] no good exchange for this long = STALE; when absent max(0.3, 3 / rate)");
   stale_timeout_ = p.optionalDouble("stale_timeout", std::max(0.3, 3.0 / rate));
+  p.describe("heartbeat_ms",
+             "[ms] producer heartbeat time written to the node (0x1017) at configuration; 0 = off");
   heartbeat_ms_ = p.optionalInt("heartbeat_ms", 100);
   p.requireInRange("heartbeat_ms", heartbeat_ms_, 0, 10000);
+  p.describe("heartbeat_timeout",
+             "[s] no heartbeat for this long: STALE and commands refused, before the PDO staleness");
   heartbeat_timeout_ = p.optionalDouble("heartbeat_timeout", 3.0 * heartbeat_ms_ / 1000.0 + 1.0 / rate);
   p.requirePositive("heartbeat_timeout", heartbeat_timeout_);
   // The board's own parameters too, so a bad one stops the node before the bus is opened.
@@ -72,7 +83,9 @@ void CanopenBoard::init(BoardContext& ctx) {
   last_ok_ = ros::Time::now();
 }
 
-uint32_t CanopenBoard::cobIdParam(const robot_core::Params& p, const std::string& name, uint32_t fallback) {
+uint32_t CanopenBoard::cobIdParam(const robot_core::Params& p, const std::string& name, uint32_t fallback,
+                                  const std::string& meaning) {
+  p.describe(name, meaning);
   const int v = p.optionalInt(name, static_cast<int>(fallback));
   if (v < 1 || v > 0x7FF)
     throw ParameterError("parameter " + p.qualified(name) + " = " + std::to_string(v) +

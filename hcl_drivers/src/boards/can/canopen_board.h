@@ -3,20 +3,14 @@
 // adds its PDOs and topics in setup(), its SDO configuration in configureNode() and its poll in
 // exchange(); see motor_board.cpp for the pattern.
 //
-// Common parameters (besides rate/loop/stale_timeout of board_nodelet.h):
-//   ~bus              socketcan://IFACE or udp://127.0.0.1:PORT (required); boards naming the
-//                     same bus in one process share one bus object, each with its own filters
-//   ~node_id          CANopen node id 1..127 (required)
-//   ~answer_timeout   [s] wait for the requested PDOs (default min(0.02, 0.5 / rate))
-//   ~sdo_timeout      [s] wait for an SDO answer (default 0.05)
-//   ~command_timeout  [s] a command older than this is dropped and the actuator stopped (default 0.25)
-//   ~heartbeat_ms     producer heartbeat time written to the node (0x1017) at configuration
-//                     (default 100, 0 = off, 0..10000); a node that aborts the write has none
-//   ~heartbeat_timeout [s] no heartbeat for this long: the board is reported STALE and its
-//                     commands refused at once, before the PDO staleness (~stale_timeout)
-//                     (default 3 x heartbeat_ms + one poll period: heartbeats are dispatched by the poll;
-//                     about the PDO staleness of a fast board, well before it for a slow one)
-//   ~<pdo>_cob_id     every PDO's COB-ID, defaults from CiA 301 (0x180/0x200/0x280 + node id)
+// Common parameters (besides rate/loop/stale_timeout of board_nodelet.h: ~bus, ~node_id, the
+// timeouts, the heartbeat, every PDO's ~<pdo>_cob_id): read and described in configure() and
+// cobIdParam() (the table: hcl_drivers/PARAMETERS.md, make docs).
+// Boards naming the same bus in one process share one bus object, each with its own filters. A
+// node that aborts the heartbeat write (0x1017) has none. The ~heartbeat_timeout default, 3 x
+// heartbeat_ms + one poll period (heartbeats are dispatched by the poll), is about the PDO
+// staleness of a fast board and well before it for a slow one. The COB-IDs default to CiA 301's
+// (0x180/0x200/0x280 + node id).
 #pragma once
 
 #include <hcl_drivers/CanNodeStatus.h>
@@ -35,7 +29,7 @@ namespace hcl_drivers {
 
 class CanopenBoard : public Board {
  public:
-  // The common parameters above, then the board's own (readParams()), into members; nothing else.
+  // The common parameters, then the board's own (readParams()), into members; nothing else.
   void configure(const robot_core::Params& params) final;
   // Opens the bus and the node, then setup(), with the values configure() read.
   void init(BoardContext& ctx) final;
@@ -84,8 +78,9 @@ class CanopenBoard : public Board {
   // dispatches frames until `arrived()` (the handlers saw every answer) or ~answer_timeout.
   // False after fail(): "sending RTR: ..." or "<board> (node N) did not answer the RTR(s) within M ms".
   bool requestPdos(const std::vector<PdoRequest>& pdos, const std::function<bool()>& arrived, const std::string& board);
-  // ~<name> as a COB-ID (1..0x7FF), default `fallback` (for readParams()).
-  static uint32_t cobIdParam(const robot_core::Params& params, const std::string& name, uint32_t fallback);
+  // ~<name> as a COB-ID (1..0x7FF), default `fallback` (for readParams()), described as `meaning`.
+  static uint32_t cobIdParam(const robot_core::Params& params, const std::string& name, uint32_t fallback,
+                             const std::string& meaning);
   // True when the board answers; otherwise counts the refusal and logs `what` (throttled).
   bool acceptCommand(const char* what);
   // Whether a command stamped `stamp` (received at `received`) is still fresh.

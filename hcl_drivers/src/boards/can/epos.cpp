@@ -1,13 +1,8 @@
 // Epos: a Maxon EPOS motor controller (CANopen DS-402) in profile velocity mode
 // (protocol and PDO mapping: epos_protocol.h).
 //
-// Parameters (besides the CANopen ones in canopen_board.h):
-//   ~motor            the motor's name (required), e.g. "left"
-//   ~encoder          the encoder's name (default: the motor's)
-//   ~max_rpm          commands are clamped to +-max_rpm (required, > 0)
-//   ~enable_at_start  request enable as soon as the drive answers (default false)
-//   ~command_cob_id (0x200+n), ~status_cob_id (0x180+n), ~feedback_cob_id (0x280+n; EPOS boards
-//   are often mapped elsewhere: set it)
+// Parameters (besides the CANopen ones in canopen_board.h): read and described in readParams()
+// (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics / services:
 //   in   ~motor/<motor>/command   hcl_drivers/MotorCommand, value = target velocity [rpm];
 //                                 older than ~command_timeout -> 0 rpm
@@ -31,15 +26,22 @@ namespace hcl_drivers {
 class Epos : public CanopenBoard {
  protected:
   void readParams(const robot_core::Params& p) override {
+    p.describe("motor", "the motor's name, e.g. left: the command topic is ~motor/<motor>/command");
     motor_ = p.requireString("motor");
+    p.describe("encoder", "the encoder's name: the counter topic is ~encoder/<encoder>; when absent the motor's");
     encoder_ = p.optionalString("encoder", motor_);
+    p.describe("max_rpm", "[rpm] velocity commands are clamped to +-max_rpm");
     max_rpm_ = p.requireInt("max_rpm");
     p.requirePositive("max_rpm", max_rpm_);
+    p.describe("enable_at_start", "request enable (power stage on) as soon as the drive answers");
     enable_requested_ = p.optionalBool("enable_at_start", false);
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    command_cob_ = cobIdParam(p, "command_cob_id", canopen::kRpdo1 + n);
-    status_cob_ = cobIdParam(p, "status_cob_id", canopen::kTpdo1 + n);
-    feedback_cob_ = cobIdParam(p, "feedback_cob_id", canopen::kTpdo2 + n);
+    command_cob_ = cobIdParam(p, "command_cob_id", canopen::kRpdo1 + n,
+                              "COB-ID of the RPDO with the controlword and target velocity");
+    status_cob_ = cobIdParam(p, "status_cob_id", canopen::kTpdo1 + n,
+                             "COB-ID of the TPDO with the statusword, mode and error code");
+    feedback_cob_ = cobIdParam(p, "feedback_cob_id", canopen::kTpdo2 + n,
+                               "COB-ID of the TPDO with position and velocity (EPOS often map it elsewhere: set it)");
   }
 
   void setup(BoardContext& ctx) override {

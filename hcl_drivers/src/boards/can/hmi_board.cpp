@@ -1,9 +1,8 @@
 // HmiBoard: the 2009 robot's human interface board: a 2x16 character LCD and a 4x4 keypad
 // (protocol: hmi_board_protocol.h).
 //
-// Parameters (besides the CANopen ones in canopen_board.h):
-//   ~keys          names of keys 0..15 in bit order (default 0..9, A, B, C, D, *, #)
-//   ~lcd_cob_id (0x200+n), ~keys_cob_id (0x180+n)
+// Parameters (besides the CANopen ones in canopen_board.h): read and described in readParams()
+// (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics:
 //   in   ~lcd      std_msgs/String: the whole display, lines separated by '\n' (2 lines of 16
 //                  printable ASCII characters; longer lines are cut, others become '?').
@@ -26,11 +25,12 @@ using robot_core::ParameterError;
 class HmiBoard : public CanopenBoard {
  protected:
   void readParams(const robot_core::Params& p) override {
+    p.describe("keys", "names of keys 0..15 in bit order (up to 16)");
     key_names_ = p.optionalStringList("keys", {"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "A", "B", "C", "D", "*", "#"});
     if (key_names_.size() > 16) throw ParameterError("parameter " + p.qualified("keys") + ": at most 16 key names");
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    lcd_cob_ = cobIdParam(p, "lcd_cob_id", canopen::kRpdo1 + n);
-    keys_cob_ = cobIdParam(p, "keys_cob_id", canopen::kTpdo1 + n);
+    lcd_cob_ = cobIdParam(p, "lcd_cob_id", canopen::kRpdo1 + n, "COB-ID of the RPDO with the LCD characters");
+    keys_cob_ = cobIdParam(p, "keys_cob_id", canopen::kTpdo1 + n, "COB-ID of the TPDO with the keys held");
   }
 
   void setup(BoardContext& ctx) override {

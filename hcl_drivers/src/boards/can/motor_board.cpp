@@ -1,11 +1,8 @@
 // MotorBoard: the 2009 robot's CAN motor board, 2 H-bridges with quadrature encoders
 // (protocol: motor_board_protocol.h).
 //
-// Parameters (besides the CANopen ones in canopen_board.h):
-//   ~motors    names of motor 0 and 1, e.g. [left, right] (required, 1..2 names)
-//   ~encoders  names of encoder 0 and 1 (default: the motor names)
-//   ~command_cob_id (0x200+n), ~encoder_cob_id (0x180+n), ~status_cob_id (0x280+n)
-//   ~watchdog_ms  firmware watchdog written by SDO 0x2001 at configuration (default 200, 10..1000)
+// Parameters (besides the CANopen ones in canopen_board.h): read and described in readParams()
+// (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics:
 //   in   ~motor/<name>/command   hcl_drivers/MotorCommand, value = PWM duty in 1/1000 of full
 //                                voltage (-1000..1000, clamped); older than ~command_timeout -> 0
@@ -28,17 +25,20 @@ using robot_core::ParameterError;
 class MotorBoard : public CanopenBoard {
  protected:
   void readParams(const robot_core::Params& p) override {
+    p.describe("motors", "names of motor 0 and 1, e.g. [left, right] (required, 1..2 names)");
     const std::vector<std::string> motors = p.optionalStringList("motors");
     if (motors.empty() || motors.size() > motor_board::kMotors)
       throw ParameterError("parameter " + p.qualified("motors") + ": required, a list of 1..2 motor names");
     motors_ = motors;
+    p.describe("encoders", "names of encoder 0 and 1 (1..2 names); when absent the motor names");
     encoders_ = p.optionalStringList("encoders", motors_);
     if (encoders_.empty() || encoders_.size() > motor_board::kMotors)
       throw ParameterError("parameter " + p.qualified("encoders") + ": a list of 1..2 encoder names");
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    command_cob_ = cobIdParam(p, "command_cob_id", canopen::kRpdo1 + n);
-    encoder_cob_ = cobIdParam(p, "encoder_cob_id", canopen::kTpdo1 + n);
-    status_cob_ = cobIdParam(p, "status_cob_id", canopen::kTpdo2 + n);
+    command_cob_ = cobIdParam(p, "command_cob_id", canopen::kRpdo1 + n, "COB-ID of the RPDO with the PWM commands");
+    encoder_cob_ = cobIdParam(p, "encoder_cob_id", canopen::kTpdo1 + n, "COB-ID of the TPDO with the encoder counters");
+    status_cob_ = cobIdParam(p, "status_cob_id", canopen::kTpdo2 + n, "COB-ID of the TPDO with the applied PWM and flags");
+    p.describe("watchdog_ms", "[ms] firmware watchdog written by SDO 0x2001 at configuration: no command, motors stop");
     watchdog_ms_ = p.optionalInt("watchdog_ms", 200);
     p.requireInRange("watchdog_ms", watchdog_ms_, 10, 1000);
   }

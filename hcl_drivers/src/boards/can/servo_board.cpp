@@ -1,11 +1,8 @@
 // ServoBoard: the 2009 robot's CAN servo board: 4 RC servos, 4 SHARP GP2D12 rangers on its ADC,
 // 16 switches (protocol and ranger curve: servo_board_protocol.h).
 //
-// Parameters (besides the CANopen ones in canopen_board.h):
-//   ~servos       names of servo channels 0..3 in order (default none; up to 4)
-//   ~rangers      names of ADC channels 0..3 with a GP2D12 (default none; up to 4)
-//   ~switches     names of switch inputs 0..15 in bit order (default none)
-//   ~servo_cob_id (0x200+n), ~ranger_cob_id (0x180+n), ~switch_cob_id (0x280+n)
+// Parameters (besides the CANopen ones in canopen_board.h): read and described in readParams()
+// (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics:
 //   in   ~servo/<name>/pulse_us  std_msgs/UInt16, pulse width 500..2500 us (0 = servo off); out of
 //                                range values are counted and ignored. A servo holds its position
@@ -29,8 +26,11 @@ using robot_core::ParameterError;
 class ServoBoard : public CanopenBoard {
  protected:
   void readParams(const robot_core::Params& p) override {
+    p.describe("servos", "names of servo channels 0..3 in order (up to 4)");
     servos_ = p.optionalStringList("servos");
+    p.describe("rangers", "names of ADC channels 0..3 with a GP2D12 ranger (up to 4)");
     rangers_ = p.optionalStringList("rangers");
+    p.describe("switches", "names of switch inputs 0..15 in bit order (up to 16)");
     switch_names_ = p.optionalStringList("switches");
     if (servos_.size() > servo_board::kServos)
       throw ParameterError("parameter " + p.qualified("servos") + ": at most 4 servo names");
@@ -39,9 +39,9 @@ class ServoBoard : public CanopenBoard {
     if (switch_names_.size() > 16)
       throw ParameterError("parameter " + p.qualified("switches") + ": at most 16 switch names");
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    servo_cob_ = cobIdParam(p, "servo_cob_id", canopen::kRpdo1 + n);
-    ranger_cob_ = cobIdParam(p, "ranger_cob_id", canopen::kTpdo1 + n);
-    switch_cob_ = cobIdParam(p, "switch_cob_id", canopen::kTpdo2 + n);
+    servo_cob_ = cobIdParam(p, "servo_cob_id", canopen::kRpdo1 + n, "COB-ID of the RPDO with the servo pulse widths");
+    ranger_cob_ = cobIdParam(p, "ranger_cob_id", canopen::kTpdo1 + n, "COB-ID of the TPDO with the ranger ADC values");
+    switch_cob_ = cobIdParam(p, "switch_cob_id", canopen::kTpdo2 + n, "COB-ID of the TPDO with the switches");
   }
 
   void setup(BoardContext& ctx) override {

@@ -1,10 +1,8 @@
 // StepperBoard: the 2009 robot's CAN stepper board, 2 steppers with min/max end switches
 // (protocol: stepper_board_protocol.h).
 //
-// Parameters (besides the CANopen ones in canopen_board.h):
-//   ~steppers       names of stepper 0 and 1 (required, 1..2 names)
-//   ~end_switches   names of the end switches in bit order (default <stepper>_min, <stepper>_max each)
-//   ~target_cob_id (0x200+n), ~position_cob_id (0x180+n), ~switch_cob_id (0x280+n)
+// Parameters (besides the CANopen ones in canopen_board.h): read and described in readParams()
+// (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics:
 //   in   ~stepper/<name>/target  std_msgs/Int32, absolute target [steps]; refused while the board
 //                                does not answer. A target is a position, not a speed: it does not
@@ -28,6 +26,7 @@ using robot_core::ParameterError;
 class StepperBoard : public CanopenBoard {
  protected:
   void readParams(const robot_core::Params& p) override {
+    p.describe("steppers", "names of stepper 0 and 1 (required, 1..2 names)");
     steppers_ = p.optionalStringList("steppers");
     if (steppers_.empty() || steppers_.size() > stepper_board::kSteppers)
       throw ParameterError("parameter " + p.qualified("steppers") + ": required, a list of 1..2 stepper names");
@@ -36,11 +35,12 @@ class StepperBoard : public CanopenBoard {
       defaults.push_back(s + "_min");
       defaults.push_back(s + "_max");
     }
+    p.describe("end_switches", "names of the end switches in bit order; when absent <stepper>_min, <stepper>_max each");
     switch_names_ = p.optionalStringList("end_switches", defaults);
     const uint32_t n = static_cast<uint32_t>(nodeId());
-    target_cob_ = cobIdParam(p, "target_cob_id", canopen::kRpdo1 + n);
-    position_cob_ = cobIdParam(p, "position_cob_id", canopen::kTpdo1 + n);
-    switch_cob_ = cobIdParam(p, "switch_cob_id", canopen::kTpdo2 + n);
+    target_cob_ = cobIdParam(p, "target_cob_id", canopen::kRpdo1 + n, "COB-ID of the RPDO with the stepper targets");
+    position_cob_ = cobIdParam(p, "position_cob_id", canopen::kTpdo1 + n, "COB-ID of the TPDO with the stepper positions");
+    switch_cob_ = cobIdParam(p, "switch_cob_id", canopen::kTpdo2 + n, "COB-ID of the TPDO with the end switches");
   }
 
   void setup(BoardContext& ctx) override {

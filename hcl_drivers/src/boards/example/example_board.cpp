@@ -1,11 +1,10 @@
 // ExampleBoard: the skeleton robot's board. A dial (10-bit ADC) in, a lamp (8-bit PWM) out,
 // over UDP (example_protocol.h). Copy this file to start a new board.
 //
-// Parameters (besides the common ones in board_nodelet.h):
-//   ~endpoint         udp://HOST:PORT of the board (required)
-//   ~answer_timeout   [s] how long to wait for an answer (default min(0.02, 0.5 / rate))
-//   ~command_timeout  [s] a lamp command older than this is dropped and the lamp switched
-//                     off (default 0.5); the pattern every actuator board follows
+// Parameters (besides the common ones in board_nodelet.h): read and described, each with a
+// p.describe() beside its read, in configure() (the table: hcl_drivers/PARAMETERS.md, make docs).
+// The ~command_timeout is the pattern every actuator board follows: a stale command is dropped
+// and the actuator made safe.
 // Topics: ~state (hcl_drivers/ExampleBoardState, latched), ~lamp_pwm (std_msgs/UInt8, in).
 #include <hcl_drivers/ExampleBoardState.h>
 #include <std_msgs/UInt8.h>
@@ -29,6 +28,7 @@ class ExampleBoard : public Board {
   // Every parameter, into members, validated; nothing else (no socket, no topic): it also runs
   // with no master and no board (check_config, the doctor).
   void configure(const robot_core::Params& p) override {
+    p.describe("endpoint", "udp://HOST:PORT of the board");
     url_ = p.requireString("endpoint");
     try {
       endpoint_ = transport::parseEndpoint(url_);
@@ -38,10 +38,13 @@ class ExampleBoard : public Board {
     if (endpoint_.scheme != "udp") throw ParameterError("parameter " + p.qualified("endpoint") + " = '" + url_ + "': the example board speaks udp://HOST:PORT only");
     // The polling rate, for the default below: required and checked by the framework
     // (BoardSettings) before configure(); the doctor polls nothing and takes 10 Hz when absent.
+    p.describe("rate", "[Hz] polling rate of the board");
     const double rate = p.optionalDouble("rate", 10.0);
     p.requirePositive("rate", rate);
+    p.describe("answer_timeout", "[s] how long to wait for the board's answer");
     answer_timeout_ = p.optionalDouble("answer_timeout", std::min(0.02, 0.5 / rate));
     p.requirePositive("answer_timeout", answer_timeout_);
+    p.describe("command_timeout", "[s] a lamp command older than this is dropped and the lamp switched off");
     command_timeout_ = p.optionalDouble("command_timeout", 0.5);
     p.requirePositive("command_timeout", command_timeout_);
   }

@@ -1,7 +1,8 @@
 // CMPS03: magnetic compass on I2C (cmps03_registers.h).
 //
-// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
-//   ~address   0x60 (the CMPS03's only address; a parameter so a bus scan result can be used)
+// Parameters: only rate/loop and the I2C ones (boards/i2c_device.h, read and described in
+// I2cConfig::read(); the table: hcl_drivers/PARAMETERS.md, make docs). ~address is 0x60, the
+// CMPS03's only address: a parameter so a bus scan result can be used.
 // Topics: ~bearing (hcl_drivers/Bearing, latched: 0..359.9 degrees clockwise from north),
 //         ~state (hcl_drivers/CMPS03State, latched).
 // Each service() reads 0x00..0x03 (revision, byte bearing, word bearing) in one combined

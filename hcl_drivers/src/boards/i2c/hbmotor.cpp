@@ -1,11 +1,7 @@
 // HBmotor: Logion's I2C H-bridge board, one motor and its encoder (hbmotor_registers.h).
 //
-// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
-//   ~address            0x08..0x77
-//   ~motor              motor name (default "motor"); ~encoder encoder name (default = motor)
-//   ~command_timeout    [s] a MotorCommand older than this is dropped and 0 written (default 0.3)
-//   ~firmware_watchdog  [s] written to WATCHDOG: the board itself stops the motor when the
-//                       driver stops writing (default 0.25, 0 = off, max 2.55)
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h): read and described in
+// configure() (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics: ~motor/<motor>/command (hcl_drivers/MotorCommand in, value = PWM duty -127..127),
 //         ~encoder/<encoder> (hcl_drivers/EncoderCounter, latched, bits = 32),
 //         ~state (hcl_drivers/HBMotorState, latched).
@@ -29,10 +25,14 @@ class HBMotor : public Board {
  public:
   void configure(const robot_core::Params& p) override {
     i2c_ = I2cConfig::read(p, 0x08, 0x77);
+    p.describe("motor", "motor name: the command topic is ~motor/<motor>/command");
     motor_ = p.optionalString("motor", "motor");
+    p.describe("encoder", "encoder name: the counter topic is ~encoder/<encoder>; when absent the motor name");
     encoder_ = p.optionalString("encoder", motor_);
+    p.describe("command_timeout", "[s] a MotorCommand older than this is dropped and 0 written");
     command_timeout_ = p.optionalDouble("command_timeout", 0.3);
     p.requirePositive("command_timeout", command_timeout_);
+    p.describe("firmware_watchdog", "[s] written to WATCHDOG: the board stops the motor when the driver stops writing; 0 = off");
     const double wd = p.optionalDouble("firmware_watchdog", 0.25);
     p.requireInRange("firmware_watchdog", wd, 0.0, 2.55);
     watchdog_ = hbmotor::encodeWatchdog(wd);

@@ -12,18 +12,22 @@ using robot_core::ParameterError;
 
 I2cConfig I2cConfig::read(const robot_core::Params& p, int address_min, int address_max) {
   I2cConfig c;
+  p.describe("bus", "the I2C bus: /dev/i2c-N (robot) or sim:///PATH (emulator socket)");
   c.bus = p.requireString("bus");
   c.bus_param = p.qualified("bus");
+  char range[64];
+  std::snprintf(range, sizeof(range), "0x%02x..0x%02x", address_min, address_max);
+  p.describe("address", std::string("7-bit I2C address of the chip, ") + range + " (YAML accepts 0x70)");
   const int address = p.requireInt("address");
   if (address < address_min || address > address_max) {
-    char range[64];
-    std::snprintf(range, sizeof(range), "0x%02x..0x%02x", address_min, address_max);
     throw ParameterError("parameter " + p.qualified("address") + " = " + std::to_string(address) +
                          ": must be a 7-bit address in " + range);
   }
   c.address = static_cast<uint8_t>(address);
+  p.describe("bus_timeout", "[s] time allowed for one I2C transfer attempt");
   c.timeout = p.optionalDouble("bus_timeout", 0.02);
   p.requireInRange("bus_timeout", c.timeout, 0.001, 1.0);
+  p.describe("bus_retries", "extra attempts of a failed I2C transfer");
   c.retries = p.optionalInt("bus_retries", 2);
   p.requireInRange("bus_retries", c.retries, 0, 10);
   return c;

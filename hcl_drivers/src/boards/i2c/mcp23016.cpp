@@ -1,12 +1,7 @@
 // MCP23016: 16-bit I/O expander (mcp23016_registers.h). On Logion: buttons in, LEDs out.
 //
-// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
-//   ~address         0x20..0x27
-//   ~direction       IODIR, 16 bits, 1 = input (default 0xFFFF, all inputs)
-//   ~input_polarity  IPOL, 16 bits, 1 = invert that input (buttons to ground read 1 when
-//                    pressed), default 0
-//   ~input_names     list of names for bits 0.. (optional, copied into DigitalInputs.names)
-//   ~outputs_initial OLAT at start and after halt (default 0: LEDs off)
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h): read and described in
+// configure() (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics: ~inputs (hcl_drivers/DigitalInputs, latched: bits = GP & IODIR),
 //         ~outputs (std_msgs/UInt16 in: OLAT bits; only pins configured as outputs drive),
 //         ~state (hcl_drivers/MCP23016State, latched).
@@ -33,15 +28,19 @@ class MCP23016 : public Board {
  public:
   void configure(const robot_core::Params& p) override {
     i2c_ = I2cConfig::read(p, mcp23016::kAddressMin, mcp23016::kAddressMax);
+    p.describe("direction", "IODIR, 16 bits, 1 = input");
     const int dir = p.optionalInt("direction", 0xFFFF);
     p.requireInRange("direction", dir, 0, 0xFFFF);
+    p.describe("input_polarity", "IPOL, 16 bits, 1 = invert that input (buttons to ground read 1 when pressed)");
     const int pol = p.optionalInt("input_polarity", 0);
     p.requireInRange("input_polarity", pol, 0, 0xFFFF);
+    p.describe("outputs_initial", "OLAT, 16 bits, written at start and after halt (on Logion: the LEDs)");
     const int out = p.optionalInt("outputs_initial", 0);
     p.requireInRange("outputs_initial", out, 0, 0xFFFF);
     direction_ = static_cast<uint16_t>(dir);
     polarity_ = static_cast<uint16_t>(pol);
     initial_ = olat_ = static_cast<uint16_t>(out);
+    p.describe("input_names", "names of the input bits 0.. (at most 16), copied into DigitalInputs.names");
     names_ = p.optionalStringList("input_names");  // "must be a list of strings" otherwise
     if (names_.size() > 16)
       throw ParameterError("parameter " + p.qualified("input_names") + ": at most 16 names (one per pin)");

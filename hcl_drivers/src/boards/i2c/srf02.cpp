@@ -6,11 +6,8 @@
 // start reads the result (4 bytes from 0x00; revision 0xFF = still converting, read again
 // next time) and starts the next ranging. So ranges arrive at min(rate, 1/conversion_time).
 //
-// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h):
-//   ~address          0x70..0x7F
-//   ~frame_id         frame of the Range messages (default "<board name>_link"; the URDF frame)
-//   ~conversion_time  [s] wait after a ranging command, >= 0.065 (default 0.065)
-//   ~field_of_view    [rad] reported beam width (default 0.96, ~55 deg)
+// Parameters (besides rate/loop and the I2C ones in boards/i2c_device.h): read and described in
+// configure() (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics: ~range (sensor_msgs/Range, latched: metres; +inf when the SRF02 reports no echo;
 //         stamped at the ranging command, when the ping went out: the echo describes the world
 //         then, not when it is read a period later. Stamped at the read, a Logion turning at
@@ -35,9 +32,12 @@ class SRF02 : public Board {
   void configure(const robot_core::Params& p) override {
     i2c_ = I2cConfig::read(p, srf02::kAddressMin, srf02::kAddressMax);
     const std::string base = p.ns().substr(p.ns().rfind('/') + 1);
+    p.describe("frame_id", "frame of the Range messages (the URDF frame); when absent <board name>_link");
     frame_id_ = p.optionalString("frame_id", base + "_link");
+    p.describe("conversion_time", "[s] wait after a ranging command before its result is read");
     conversion_time_ = p.optionalDouble("conversion_time", srf02::kConversionTime);
     p.requireInRange("conversion_time", conversion_time_, srf02::kConversionTime, 1.0);
+    p.describe("field_of_view", "[rad] beam width reported in the Range messages");
     fov_ = p.optionalDouble("field_of_view", srf02::kFieldOfView);
     p.requireInRange("field_of_view", fov_, 0.01, 3.14);
   }

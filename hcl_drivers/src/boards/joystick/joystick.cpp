@@ -7,13 +7,8 @@
 // board reports the error on /diagnostics and the device is reopened every ~reopen_period
 // until it is back; the init events the kernel sends on open restore the true state.
 //
-// Parameters (besides rate/loop):
-//   ~device          /dev/input/js0, or the simulator's FIFO (required)
-//   ~deadzone        0..0.9 of full travel (default 0.05)
-//   ~publish_rate    [Hz] repeat rate when nothing changes (default 10, <= rate)
-//   ~reopen_period   [s] (default 0.5)
-//   ~frame_id        Joy header frame (default "")
-//   ~axes ~buttons   what the doctor expects the device to report (default 0: anything)
+// Parameters (besides rate/loop): read and described in configure() (the table:
+// hcl_drivers/PARAMETERS.md, make docs).
 // Topics: ~joy (sensor_msgs/Joy), ~state (hcl_drivers/JoystickState, latched, raw mirror).
 #include <hcl_drivers/JoystickState.h>
 #include <sensor_msgs/Joy.h>
@@ -33,22 +28,32 @@ namespace hcl_drivers {
 class Joystick : public Board {
  public:
   void configure(const robot_core::Params& p) override {
+    p.describe("device", "the joystick device, /dev/input/js0, or the simulator's FIFO");
     device_path_ = p.requireString("device");
+    p.describe("deadzone", "fraction of full travel around the centre read as 0 (the rest is rescaled to reach +-1)");
     deadzone_ = p.optionalDouble("deadzone", 0.05);
     p.requireInRange("deadzone", deadzone_, 0.0, 0.9);
     // The polling rate, for ~publish_rate: required and checked by the framework (BoardSettings)
     // before configure(); the doctor polls nothing and takes 10 Hz when absent.
+    p.describe("rate", "[Hz] polling rate of the board");
     const double rate = p.optionalDouble("rate", 10.0);
     p.requirePositive("rate", rate);
+    p.describe("publish_rate", "[Hz] repeat rate of ~joy when nothing changes (at most rate)");
     publish_rate_ = p.optionalDouble("publish_rate", std::min(10.0, rate));
     p.requireInRange("publish_rate", publish_rate_, 0.1, rate);
+    p.describe("reopen_period", "[s] an unplugged joystick is reopened this often until it is back");
     reopen_period_ = p.optionalDouble("reopen_period", 0.5);
     p.requirePositive("reopen_period", reopen_period_);
+    p.describe("frame_id", "frame_id of the Joy messages' header");
     frame_id_ = p.optionalString("frame_id", "");
     // the doctor's (check())
+    p.describe("axes", "number of axes the hardware doctor expects the device to report; 0 = anything");
     want_axes_ = p.optionalInt("axes", 0);
+    p.describe("buttons", "number of buttons the hardware doctor expects the device to report; 0 = anything");
     want_buttons_ = p.optionalInt("buttons", 0);
+    p.describe("check_window", "[s] how long the hardware doctor waits for the init events a FIFO delivers");
     check_window_ = p.optionalDouble("check_window", 1.0);
+    p.describe("required", "true: the robot is not ready for a match without this board; false: reported, not waited for");
     required_ = p.optionalBool("required", true);
   }
 
@@ -59,7 +64,7 @@ class Joystick : public Board {
   }
 
   // The doctor: the device opens and reports its axes and buttons (JSIOCGAXES/JSIOCGBUTTONS,
-  // or the init events a FIFO delivers within ~check_window, default 1 s); compared with the
+  // or the init events a FIFO delivers within ~check_window); compared with the
   // optional ~axes / ~buttons the robot's config expects.
   void check(BoardContext& /*ctx*/, CheckReport& report) override {
     transport::JoystickDevice device(device_path_);

@@ -5,14 +5,9 @@
 // would add up to one period of latency). service() only supervises: reopens a port that
 // vanished and reports the board as answering while valid messages keep coming.
 //
-// Parameters (besides rate/loop):
-//   ~port             device path: /dev/ttyS0, /dev/ttyUSB0, or the emulator's pty link (required)
-//   ~baud             1200..921600 standard rates (default 9600)
-//   ~beacons          number of beacon ids reported in ~state (default 3, 1..10); messages for
-//                     other ids are counted and dropped
-//   ~silence_timeout  [s] no valid message for this long = not answering (default 1.0)
-//   ~beacon_timeout   [s] one beacon unheard for this long while others are heard: ERROR naming
-//                     it (default 0.6: each beacon is heard every ~0.3 s at most on the table)
+// Parameters (besides rate/loop): read and described in configure() (the table:
+// hcl_drivers/PARAMETERS.md, make docs). Each beacon is heard every ~0.3 s at most on the
+// table, hence the ~beacon_timeout default (0.6 s).
 // /diagnostics: ERROR while a beacon is silent, and for 1 s after bad bytes on the line (garbage,
 // checksum errors, truncated messages): noise on the serial line is named, not just counted.
 // Topics: ~delta (hcl_drivers/BeaconDelta, every message, stamp = receive time of its last byte),
@@ -46,17 +41,23 @@ class BeaconReceiver : public Board {
   }
 
   void configure(const robot_core::Params& p) override {
+    p.describe("port", "serial device path: /dev/ttyS0, /dev/ttyUSB0, or the emulator's pty link");
     port_path_ = p.requireString("port");
+    p.describe("baud", "[bit/s] serial speed, a standard rate 1200..921600");
     baud_ = p.optionalInt("baud", 9600);
     if (transport::SerialPort::baudConstant(baud_) == 0)
       throw ParameterError("parameter " + p.qualified("baud") + " = " + std::to_string(baud_) +
                            ": allowed values: " + transport::SerialPort::allowedBauds());
+    p.describe("beacons", "number of beacon ids reported in ~state; messages for other ids are counted and dropped");
     beacons_ = p.optionalInt("beacons", 3);
     p.requireInRange("beacons", beacons_, 1, 10);
+    p.describe("silence_timeout", "[s] no valid message for this long = not answering");
     silence_timeout_ = p.optionalDouble("silence_timeout", 1.0);
     p.requirePositive("silence_timeout", silence_timeout_);
+    p.describe("beacon_timeout", "[s] one beacon unheard this long while others are heard: ERROR naming it");
     beacon_timeout_ = p.optionalDouble("beacon_timeout", 0.6);
     p.requirePositive("beacon_timeout", beacon_timeout_);
+    p.describe("check_window", "[s] how long the hardware doctor listens to the port");
     check_window_ = p.optionalDouble("check_window", 2.0);  // the doctor's
   }
 
@@ -70,7 +71,7 @@ class BeaconReceiver : public Board {
     reader_ = std::thread([this] { readLoop(); });
   }
 
-  // The doctor: open the port at the configured speed, listen ~check_window seconds (default 2),
+  // The doctor: open the port at the configured speed, listen ~check_window seconds,
   // parse what comes: frames, their rate, the beacons heard and the parse errors.
   void check(BoardContext& /*ctx*/, CheckReport& report) override {
     const std::string& port = port_path_;

@@ -1,0 +1,1 @@
+"""The product's generated documentation (make docs)."""

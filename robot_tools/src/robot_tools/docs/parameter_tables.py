@@ -1,0 +1,159 @@
+"""`make docs`: each package's parameter tables, written from the parameter readers themselves.
+
+    scripts/parameter_tables.py [--check]
+
+Every shipped robot's config (config/ROBOT.yaml, with and without its sim overlay) goes through
+the readers the nodes run at start, with no master (robot_core's check_components for the boards
+and the devices, robot_sim's check_sim_config for the world), each asked with --describe what it
+declared of every parameter it read: its type, whether it is required, its default and what is
+allowed, what it means: Params::describe beside the read). One table per board type
+(hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md) and the simulated world
+(robot_sim/PARAMETERS.md); the parameters every type reads come first, once.
+With --check nothing is written: exit 1 and the files that differ from what the code declares
+(the test that keeps the committed tables in sync)."""
+import argparse
+import collections
+import glob
+import os
+import subprocess
+import sys
+import tempfile
+
+import yaml
+from robot_core.config_tree import merged
+
+from robot_tools.paths import ROOT
+
+# (package whose table it is, the tool, its arguments after the config, a title per table)
+SOURCES = (
+    ('hcl_drivers', 'robot_core', 'check_components', ['hcl', 'hcl_drivers', 'board', '--describe'], 'board'),
+    ('hal_nodes', 'robot_core', 'check_components', ['hal', 'hal_nodes', 'device', '--describe'], 'device'),
+    ('robot_sim', 'robot_sim', 'check_sim_config', ['--describe'], 'world'),
+)
+Declaration = collections.namedtuple('Declaration', 'type required default rule meaning')
+
+
+def robots():
+    """The shipped robots: config/ROBOT.yaml beside a launch/ROBOT.launch."""
+    names = [os.path.basename(p)[:-len('.launch')] for p in glob.glob(os.path.join(ROOT, 'launch', '*.launch'))]
+    return sorted(n for n in names if os.path.exists(os.path.join(ROOT, 'config', n + '.yaml')))
+
+
+def load(path):
+    with open(path) as f:
+        return yaml.safe_load(f) or {}
+
+
+def configs():
+    """(name, merged tree) of every robot's config, alone and with its sim overlay."""
+    for robot in robots():
+        base = load(os.path.join(ROOT, 'config', robot + '.yaml'))
+        yield robot, base
+        sim = os.path.join(ROOT, 'config', robot + '.sim.yaml')
+        if os.path.exists(sim):
+            yield robot + ' (sim)', merged(base, load(sim))
+
+
+def tool(package, name):
+    found = subprocess.run(['catkin_find', '--first-only', package, name], stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL, universal_newlines=True).stdout.strip()
+    if not found:
+        sys.exit('parameter_tables: %s/%s not found: build the workspace (make build) and source devel/setup.bash'
+                 % (package, name))
+    return found
+
+
+def declarations():
+    """{table kind: {component type: {name: Declaration}}} over every config; a default that
+    differs between configs (one computed from another value) is shown as each."""
+    out = {kind: collections.defaultdict(dict) for _, _, _, _, kind in SOURCES}
+    for label, tree in configs():
+        with tempfile.NamedTemporaryFile('w', suffix='.yaml', prefix='parameter_tables_') as f:
+            yaml.safe_dump(tree, f)
+            f.flush()
+            for _, package, name, args, kind in SOURCES:
+                done = subprocess.run([tool(package, name), f.name] + args, stdout=subprocess.PIPE,
+                                      stderr=subprocess.PIPE, universal_newlines=True)
+                if done.returncode != 0:
+                    sys.exit('parameter_tables: %s refused %s:\n%s' % (name, label, done.stderr))
+                for line in done.stdout.splitlines():
+                    component, pname, ptype, required, default, rule, meaning = line.split('\t')
+                    seen = out[kind][component].get(pname)
+                    if seen and not ptype:  # described, not read, in this config: what another read says
+                        continue
+                    if seen and default not in seen.default.split(' or '):
+                        default = seen.default + ' or ' + default
+                    out[kind][component][pname] = Declaration(ptype, required == 'required', default, rule,
+                                                              meaning or (seen.meaning if seen else ''))
+    return out
+
+
+def cell(text):
+    return text.replace('|', '\\|') if text else ''
+
+
+def table(rows):
+    """The markdown rows of one table."""
+    lines = ['| parameter | type | default | allowed | meaning |', '|---|---|---|---|---|']
+    for name, d in sorted(rows.items()):
+        if not d.type:  # described where no shipped config has it read: nothing the reader declared
+            continue
+        default = 'required' if d.required else cell(d.default)
+        lines.append('| `%s` | %s | %s | %s | %s |' % (name, cell(d.type), default, cell(d.rule), cell(d.meaning)))
+    return lines
+
+
+def document(package, kind, components):
+    """The text of PACKAGE/PARAMETERS.md."""
+    what = {'board': 'board type (the `type:` of an `hcl:` block)', 'device': 'device type (the `type:` of a `hal:` block)',
+            'world': 'the simulated world, `sim/world` of a robot\'s sim overlay'}[kind]
+    lines = ['# %s parameters' % package, '',
+             'Written by `make docs` (`scripts/parameter_tables.py`) from the parameter readers themselves: every',
+             'shipped robot\'s config goes through the reader each node runs at start, which declares what it',
+             'read (type, required or default, what is allowed, what it means). Do not edit by hand:',
+             '`test_parameter_tables` fails when this file and the code disagree. Per %s.' % what,
+             '`<name>`: any name of your own (an entry of a dictionary of named blocks); `x[]/key`: a key of each',
+             'dictionary in the list `x`.', '']
+    types = sorted(components)
+    common = {}
+    if kind != 'world' and len(types) > 1:
+        shared = set.intersection(*(set(components[t]) for t in types))
+        common = {n: components[types[0]][n] for n in shared
+                  if all(components[t][n].type == components[types[0]][n].type for t in types)}
+        lines += ['## Every %s' % kind, ''] + table(common) + ['']
+    for t in types:
+        own = {n: d for n, d in components[t].items() if n not in common}
+        title = 'sim/world' if kind == 'world' else t
+        lines += ['## %s' % title, ''] + (table(own) if own else
+                                           ['Only the parameters every %s reads.' % kind]) + ['']
+    return '\n'.join(lines).rstrip() + '\n'
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--check', action='store_true', help='write nothing; exit 1 when a committed table differs')
+    args = ap.parse_args(argv)
+    found = declarations()
+    stale = []
+    for package, _, _, _, kind in SOURCES:
+        path = os.path.join(ROOT, package, 'PARAMETERS.md')
+        text = document(package, kind, found[kind])
+        old = open(path).read() if os.path.exists(path) else None
+        if old == text:
+            continue
+        if args.check:
+            stale.append(os.path.relpath(path, ROOT))
+        else:
+            with open(path, 'w') as f:
+                f.write(text)
+            print('parameter_tables: wrote %s (%d tables)' % (os.path.relpath(path, ROOT), len(found[kind])))
+    if stale:
+        print('parameter_tables: %s differ(s) from what the readers declare: run make docs' % ', '.join(stale))
+        return 1
+    if args.check:
+        print('parameter_tables: the committed tables match the readers')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
