@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include "hal_nodes/described_number.h"
+
 namespace hal_nodes {
 namespace driver {
 
@@ -22,15 +24,8 @@ ControlCurve readCurve(const Params& p, const char* saturation) {
   return c;
 }
 
-// A number of a config struct: its parameter name, where it goes, what it means (describe()).
-struct Field {
-  const char* name;
-  double* value;
-  const char* meaning;
-};
-
 // Optional numbers, each kept at its struct default when the block does not set it.
-void readOptional(const Params& p, std::initializer_list<Field> fields) {
+void readOptional(const Params& p, std::initializer_list<DescribedNumber> fields) {
   for (const auto& f : fields) {
     p.describe(f.name, f.meaning);
     *f.value = p.optionalDouble(f.name, *f.value);
@@ -39,7 +34,7 @@ void readOptional(const Params& p, std::initializer_list<Field> fields) {
 
 MotionLimits readLimits(const Params& p) {
   MotionLimits l;
-  const Field fields[] = {
+  const DescribedNumber fields[] = {
       {"max_linear_speed", &l.max_linear_speed, "[m/s] linear speed limit of every controlled command"},
       {"max_angular_speed", &l.max_angular_speed, "[rad/s] turn-rate limit of every controlled command"},
       {"max_linear_accel", &l.max_linear_accel, "[m/s^2] linear acceleration limit, also the deceleration"},
@@ -121,7 +116,7 @@ AvoidanceConfig readAvoidanceConfig(const Params& driver, const AutopilotConfig&
 
 DriverDeviceConfig readDriverDeviceConfig(const Params& p) {
   DriverDeviceConfig c;
-  const Field positive[] = {
+  const DescribedNumber positive[] = {
       {"default_position_tolerance", &c.default_position_tolerance,
        "[m] position tolerance of a goto or follow_path goal that gives none"},
       {"default_angle_tolerance", &c.default_angle_tolerance,

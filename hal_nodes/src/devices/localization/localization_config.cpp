@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "hal_nodes/described_number.h"
+
 namespace hal_nodes {
 namespace localization {
 
@@ -131,11 +133,7 @@ LocalizationConfig readLocalizationConfig(const Params& p) {
   // ---- advancing input: odometry ----
   mcl::MotionModel& mm = c.motion;
   // The motion model's noise (mcl/motion/motion_model.h): name, where it goes, what it means.
-  const struct {
-    const char* name;
-    double* value;
-    const char* meaning;
-  } motion[] = {
+  const DescribedNumber motion[] = {
       {"trans_per_trans", &mm.trans_per_trans, "[m/m] forward noise (std) per metre travelled"},
       {"trans_per_rot", &mm.trans_per_rot, "[m/rad] forward noise (std) per radian turned"},
       {"lateral_per_trans", &mm.lateral_per_trans, "[m/m] sideways noise (std) per metre travelled"},
