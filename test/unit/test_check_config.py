@@ -12,6 +12,7 @@ import unittest
 import yaml
 from robot_core import start_zone
 from robot_core.config_tree import merged
+from robot_tools.matches.match_config import robot_config  # the config and its sim overlay, as the launch merges them
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))  # the checkout, not the src/ symlink
 CHECK = os.path.join(ROOT, 'robot_description', 'scripts', 'check_config')
@@ -24,17 +25,6 @@ def robots():
     """Every robot the product ships: config/ROBOT.yaml with its launch/ROBOT.launch."""
     names = [os.path.basename(p)[:-len('.launch')] for p in glob.glob(os.path.join(ROOT, 'launch', '*.launch'))]
     return sorted(n for n in names if os.path.exists(os.path.join(ROOT, 'config', n + '.yaml')))
-
-
-def config_tree(robot):
-    """config/ROBOT.yaml with its sim overlay, merged as the launch loads them."""
-    tree = {}
-    for name in (robot + '.yaml', robot + '.sim.yaml'):
-        path = os.path.join(ROOT, 'config', name)
-        if os.path.exists(path):
-            with open(path) as f:
-                tree = merged(tree, yaml.safe_load(f) or {})
-    return tree
 
 
 def run(args):
@@ -150,7 +140,7 @@ class CheckConfigTest(unittest.TestCase):
         # zones: the rules above find nothing to disagree with, and the robot stands in that zone.
         played = 0
         for robot in robots():
-            tree = config_tree(robot)
+            tree = robot_config(robot)
             zones = (tree.get('table') or {}).get('start_zones') or []
             for zone in zones:
                 over = start_zone.side_overlay(tree, zone['name'])
@@ -163,7 +153,7 @@ class CheckConfigTest(unittest.TestCase):
                 played += 1
         self.assertGreaterEqual(played, 4)  # two table robots, two zones each
         with self.assertRaises(ValueError) as no_zone:
-            start_zone.side_overlay(config_tree('logion'), 'purple')
+            start_zone.side_overlay(robot_config('logion'), 'purple')
         self.assertIn('SIDE=purple: allowed values: red, blue', str(no_zone.exception))
 
     def test_check_config_plays_a_side(self):
