@@ -37,9 +37,11 @@ DeviceSettings DeviceSettings::read(const robot_core::Params& p) {
   return s;
 }
 
-void DeviceNodeletBase::readConfig(const robot_core::Params& params) const {
+void DeviceNodeletBase::readConfig(const robot_core::Params& params, const robot_core::RobotGeometry& robot) const {
   DeviceSettings::read(params);
-  createDevice()->configure(params);
+  const std::unique_ptr<Device> device = createDevice();
+  device->setRobot(robot);
+  device->configure(params);
 }
 
 DeviceNodeletBase::~DeviceNodeletBase() {
@@ -77,6 +79,7 @@ void DeviceNodeletBase::onInit() {
     pacer_ = robot_core::LoopPacer(1.0 / rate_, 1.0 / max_rate_);
     device_ = createDevice();
     device_->setWakeHandler([this](const ros::Time& stamp) { wake(stamp); });
+    device_->setRobot(robot_core::RobotGeometry::fromParameterServer());
     device_->configure(params);
     device_->init(ctx);
     effector_ = dynamic_cast<Effector*>(device_.get());

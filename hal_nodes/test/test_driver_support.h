@@ -20,8 +20,9 @@ namespace test {
 
 // The robots' own driver blocks (config/<robot>.yaml, hal: driver:), read as the device reads them.
 inline AutopilotConfig configOf(const std::string& robot) {
-  return readAutopilotConfig(robot_core::Params::fromYamlFile(std::string(ROBOT_CONFIG_DIR) + "/" + robot + ".yaml",
-                                                               "hal/driver"));
+  const std::string file = std::string(ROBOT_CONFIG_DIR) + "/" + robot + ".yaml";
+  return readAutopilotConfig(robot_core::Params::fromYamlFile(file, "hal/driver"),
+                             robot_core::RobotGeometry::read(robot_core::Params::fromYamlFile(file, "robot")));
 }
 
 // The 2009 robot's.

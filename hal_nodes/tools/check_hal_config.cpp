@@ -39,6 +39,8 @@ int main(int argc, char** argv) {
   Params all;
   if (!accepted([&] { all = Params::fromYamlFile(argv[1]); })) return 1;
   const Params hal = all["hal"], table = all["table"];
+  robot_core::RobotGeometry robot;  // the description (/robot) the driver and the localization take values from
+  if (!accepted([&] { robot = robot_core::RobotGeometry::read(all["robot"]); })) return 1;
   int errors = 0;
   for (const std::string& key : hal.keys()) {
     const Params device = hal[key];
@@ -47,15 +49,15 @@ int main(int argc, char** argv) {
     namespace d = hal_nodes::driver;
     if (type == "Driver") {
       d::AutopilotConfig autopilot;
-      if (accepted([&] { autopilot = d::readAutopilotConfig(device); }))
-        errors += !accepted([&] { d::readAvoidanceConfig(device, autopilot); });
+      if (accepted([&] { autopilot = d::readAutopilotConfig(device, robot); }))
+        errors += !accepted([&] { d::readAvoidanceConfig(device, autopilot, robot); });
       else
         ++errors;
       errors += !accepted([&] { d::readPathFollowerConfig(device); });
       errors += !accepted([&] { d::readRecoveryConfig(device); });
       errors += !accepted([&] { d::readDriverDeviceConfig(device); });
     } else if (type == "Localization") {
-      errors += !accepted([&] { hal_nodes::localization::readLocalizationConfig(device, table); });
+      errors += !accepted([&] { hal_nodes::localization::readLocalizationConfig(device, table, robot); });
     }
   }
   return errors ? 1 : 0;

@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
   const double dt = 1.0 / rate;
   AutopilotConfig cfg;
   try {
-    cfg = readAutopilotConfig(robot_core::Params::fromYamlFile(config, "hal/driver"));
+    cfg = readAutopilotConfig(robot_core::Params::fromYamlFile(config, "hal/driver"),
+                              robot_core::RobotGeometry::read(robot_core::Params::fromYamlFile(config, "robot")));
   } catch (const robot_core::ParameterError& e) {
     std::fprintf(stderr, "driver_bench: %s\n", e.what());
     return 2;

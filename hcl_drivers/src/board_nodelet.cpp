@@ -53,7 +53,7 @@ BoardSettings BoardSettings::read(const robot_core::Params& p) {
   return s;
 }
 
-void BoardNodeletBase::readConfig(const robot_core::Params& params) const {
+void BoardNodeletBase::readConfig(const robot_core::Params& params, const robot_core::RobotGeometry& /*robot*/) const {
   BoardSettings::read(params);
   createBoard()->configure(params);
 }

@@ -219,7 +219,11 @@ std::string Params::requireString(const std::string& name) const {
 }
 
 double Params::optionalDouble(const std::string& name, double fallback) const {
-  declare(name, "number", false, number(fallback));
+  return optionalDouble(name, fallback, number(fallback));
+}
+
+double Params::optionalDouble(const std::string& name, double fallback, const std::string& fallback_named) const {
+  declare(name, "number", false, fallback_named);
   XmlRpc::XmlRpcValue* v = find(name);
   return v ? rules::toNumber(*v, qualified(name)) : fallback;
 }

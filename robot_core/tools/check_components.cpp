@@ -22,6 +22,7 @@
 #include "robot_core/component_host.h"
 #include "robot_core/configurable_component.h"
 #include "robot_core/params.h"
+#include "robot_core/robot_geometry.h"
 
 namespace {
 
@@ -33,7 +34,8 @@ std::string joined(const std::vector<std::string>& names) {
 
 // The errors of one block: its plugin's reader over it, then the keys nobody asked for.
 int checkBlock(pluginlib::ClassLoader<nodelet::Nodelet>& plugins, const std::string& package,
-               const std::string& type, const std::string& kind, const robot_core::Params& block, bool describe) {
+               const std::string& type, const std::string& kind, const robot_core::Params& block,
+               const robot_core::RobotGeometry& robot, bool describe) {
   boost::shared_ptr<nodelet::Nodelet> plugin;
   try {
     plugin = plugins.createInstance(package + "/" + type);
@@ -44,7 +46,7 @@ int checkBlock(pluginlib::ClassLoader<nodelet::Nodelet>& plugins, const std::str
   const auto* reader = dynamic_cast<const robot_core::ConfigurableComponent*>(plugin.get());
   if (!reader) return 0;  // a plugin without its own reader: its node checks it at start
   try {
-    reader->readConfig(block);
+    reader->readConfig(block, robot);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
@@ -83,6 +85,13 @@ int main(int argc, char** argv) {
   }
   if (!all.has(ns)) return 0;  // nothing of this kind configured: the host itself says so at start
   const robot_core::Params host = all[ns];
+  robot_core::RobotGeometry robot;  // the description (/robot) some readers take values from
+  try {
+    robot = robot_core::RobotGeometry::read(all["robot"]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
   const std::vector<std::string> types = robot_core::ComponentHost::declaredTypes(package);
   pluginlib::ClassLoader<nodelet::Nodelet> plugins("nodelet", "nodelet::Nodelet");
   int errors = 0;
@@ -107,7 +116,7 @@ int main(int argc, char** argv) {
       ++errors;
       continue;
     }
-    errors += checkBlock(plugins, package, type, kind, block, describe);
+    errors += checkBlock(plugins, package, type, kind, block, robot, describe);
   }
   return errors ? 1 : 0;
 }

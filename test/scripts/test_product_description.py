@@ -47,6 +47,15 @@ def table_robots():
     return [r for r in robots() if 'motors' in sim_robot(r)]
 
 
+def nested_has(tree, path):
+    """Whether the dictionaries `tree` hold a value at the key path `path`."""
+    for key in path:
+        if not isinstance(tree, dict) or key not in tree:
+            return False
+        tree = tree[key]
+    return True
+
+
 def sim_robot(robot):
     """The simulated robot as the simulator reads it: sim/world/robot with the geometry it takes
     from the robot's description (robot_core.config_tree.simulated_robot)."""
@@ -197,16 +206,19 @@ class DescriptionTest(unittest.TestCase):
             world_robot = sim_robot(robot)
             radius, track, wheel = geometry['radius'], geometry['track_width'], geometry['wheel_radius']
             for where, value in (('urdf chassis_link', float(chassis.find('visual/geometry/cylinder').get('radius'))),
-                                 ('sim/world/robot/radius', world_robot['radius']),
-                                 ('hal/localization/robot_radius', hal['localization']['robot_radius']),
-                                 ('hal/driver/avoidance/robot_radius', hal['driver']['avoidance']['robot_radius'])):
+                                 ('sim/world/robot/radius', world_robot['radius'])):
                 self.assertAlmostEqual(value, radius, delta=1e-6, msg='%s: %s vs robot/radius' % (robot, where))
             for where, value in (('urdf wheel joints', left[1] - right[1]),
-                                 ('sim/world/robot/wheel_base', world_robot['wheel_base']),
-                                 ('hal/driver/limits/track_width', hal['driver']['limits']['track_width']),
-                                 ('hal/drive/track_width', hal['drive']['track_width']),
-                                 ('hal/odometry/pairs/driven/track_width', hal['odometry']['pairs']['driven']['track_width'])):
+                                 ('sim/world/robot/wheel_base', world_robot['wheel_base'])):
                 self.assertAlmostEqual(value, track, delta=1e-6, msg='%s: %s vs robot/track_width' % (robot, where))
+            # The HAL's blocks take the radius and the track from the description (RobotGeometry): a
+            # copy in a shipped block would stop following it (a calibrated track, a new robot).
+            hal_copies = [where for where in ('localization/robot_radius', 'driver/avoidance/robot_radius',
+                                              'driver/limits/track_width', 'drive/track_width',
+                                              'odometry/pairs/driven/track_width')
+                          if nested_has(hal, where.split('/'))]
+            self.assertEqual(hal_copies, [], 'config/%s.yaml hal: copies the robot\'s geometry: remove them, '
+                             'the devices read robot: (robot_core/robot_geometry.h)' % robot)
             for where, value in (('urdf wheel joint height', left[2]),
                                  ('sim/world/robot/wheel_radius', world_robot['wheel_radius'])):
                 self.assertAlmostEqual(value, wheel, delta=1e-6, msg='%s: %s vs robot/wheel_radius' % (robot, where))

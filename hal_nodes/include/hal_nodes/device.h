@@ -6,6 +6,7 @@
 //               it over a config file with no master, and calls every key it never asked for unknown.
 //               The object itself is built there too, with no ros::init: no ros::NodeHandle (or
 //               a tf listener) as a member constructed with the device; make those in init().
+//               robot() is the robot's description (/robot: radius, track width, ..) by then.
 //   init(ctx)   once, after configure(): declare inputs with addInput(), advertise outputs.
 //   refresh()   at the configured ~rate on the nodelet callback queue: sample the newest
 //               inputs, compute, publish. Call setUnavailable("why") when it cannot. An input
@@ -22,6 +23,7 @@
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <robot_core/params.h>
 #include <robot_core/priority_inheritance_mutex.h>
+#include <robot_core/robot_geometry.h>
 #include <ros/ros.h>
 
 #include <functional>
@@ -57,6 +59,7 @@ class Device {
   // Framework side: how an arriving Wake::kOnArrival input runs refresh() (set before init()),
   // inputs for diagnostics, and whether the device is usable.
   void setWakeHandler(std::function<void(const ros::Time& stamp)> wake) { wake_ = std::move(wake); }
+  void setRobot(const robot_core::RobotGeometry& robot) { robot_ = robot; }
   const std::vector<std::shared_ptr<InputStatus>>& inputs() const { return inputs_; }
   bool available(std::string* reason) const {
     std::lock_guard lk(status_mutex_);
@@ -71,6 +74,9 @@ class Device {
   }
 
  protected:
+  // The robot's description (/robot), read once by the framework before configure().
+  const robot_core::RobotGeometry& robot() const { return robot_; }
+
   // Subscribe to an input topic in the pull model; `name` labels it on /diagnostics.
   template <class M>
   std::shared_ptr<LatestValue<M>> addInput(ros::NodeHandle& nh, const std::string& topic, const std::string& name,
@@ -118,6 +124,7 @@ class Device {
   void clearCondition() { setCondition(diagnostic_msgs::DiagnosticStatus::OK, ""); }
 
  private:
+  robot_core::RobotGeometry robot_;
   std::vector<std::shared_ptr<InputStatus>> inputs_;
   std::function<void(const ros::Time& stamp)> wake_;
   mutable robot_core::PriorityInheritanceMutex status_mutex_;  // device loop vs callbacks and checks

@@ -42,7 +42,7 @@ class DeviceNodeletBase : public nodelet::Nodelet, public robot_core::Configurab
  public:
   ~DeviceNodeletBase() override;
   // The common parameters and the device's own, over `params` (check_config, with no master).
-  void readConfig(const robot_core::Params& params) const override;
+  void readConfig(const robot_core::Params& params, const robot_core::RobotGeometry& robot) const override;
 
  protected:
   virtual std::unique_ptr<Device> createDevice() const = 0;

@@ -32,28 +32,29 @@ void readOptional(const Params& p, std::initializer_list<DescribedNumber> fields
   }
 }
 
-MotionLimits readLimits(const Params& p) {
+MotionLimits readLimits(const Params& p, const robot_core::RobotGeometry& robot) {
   MotionLimits l;
   const DescribedNumber fields[] = {
       {"max_linear_speed", &l.max_linear_speed, "[m/s] linear speed limit of every controlled command"},
       {"max_angular_speed", &l.max_angular_speed, "[rad/s] turn-rate limit of every controlled command"},
       {"max_linear_accel", &l.max_linear_accel, "[m/s^2] linear acceleration limit, also the deceleration"},
       {"max_angular_accel", &l.max_angular_accel, "[rad/s^2] angular acceleration limit"},
-      {"max_wheel_speed", &l.max_wheel_speed, "[m/s] |v| + |w| * track_width / 2 never exceeds it"},
-      {"track_width", &l.track_width, "[m] distance between the driven wheels"}};
+      {"max_wheel_speed", &l.max_wheel_speed, "[m/s] |v| + |w| * track_width / 2 never exceeds it"}};
   for (const auto& f : fields) {
     p.describe(f.name, f.meaning);
     *f.value = p.requireDouble(f.name);
     p.requirePositive(f.name, *f.value);
   }
+  l.track_width = robot_core::RobotGeometry::blockOrDescribed(p, "track_width", robot.track_width, "track_width",
+                                                              "[m] distance between the driven wheels");
   return l;
 }
 
 }  // namespace
 
-AutopilotConfig readAutopilotConfig(const Params& p) {
+AutopilotConfig readAutopilotConfig(const Params& p, const robot_core::RobotGeometry& robot) {
   AutopilotConfig ap;
-  ap.limits = readLimits(p["limits"]);
+  ap.limits = readLimits(p["limits"], robot);
   ap.speed_curve = readCurve(p["speed_curve"], "[m] distance to the goal from which the full speed is commanded");
   ap.turn_curve = readCurve(p["turn_curve"], "[rad] angular deviation from which the full turn rate is commanded");
   p.describe("turn_in_place_angle", "[rad] bearing error above which the robot turns on the spot without driving");
@@ -82,15 +83,17 @@ PathFollowerConfig readPathFollowerConfig(const Params& driver) {
   return pf;
 }
 
-AvoidanceConfig readAvoidanceConfig(const Params& driver, const AutopilotConfig& autopilot) {
+AvoidanceConfig readAvoidanceConfig(const Params& driver, const AutopilotConfig& autopilot,
+                                    const robot_core::RobotGeometry& robot) {
   const Params p = driver["avoidance"];
   AvoidanceConfig av;
   p.describe("mode", "off; stop: brake and wait; detour: two waypoints beside the obstacle (else stop)");
   const std::string mode = p.optionalString("mode", "stop");
   p.requireOneOf("mode", mode, {"off", "stop", "detour"});
   AvoidanceConfig::parseMode(mode, &av.mode);
-  readOptional(p, {{"robot_radius", &av.robot_radius, "[m] our footprint's circumscribed radius"},
-                   {"opponent_radius", &av.opponent_radius, "[m] assumed size around an opponent point"},
+  av.robot_radius = robot_core::RobotGeometry::blockOrDescribed(
+      p, "robot_radius", robot.radius, "radius", "[m] our footprint's circumscribed radius", av.robot_radius);
+  readOptional(p, {{"opponent_radius", &av.opponent_radius, "[m] assumed size around an opponent point"},
                    {"margin", &av.margin, "[m] extra room kept around the opponent"},
                    {"braking_distance", &av.braking_distance,
                     "[m] the robot stops within this after a detection (>= the stop distance from full speed)"},

@@ -48,7 +48,7 @@ class BoardNodeletBase : public nodelet::Nodelet, public robot_core::Configurabl
   // configure() and check().
   std::unique_ptr<Board> newBoard() const { return createBoard(); }
   // The common parameters and the board's own, over `params` (check_config, with no master).
-  void readConfig(const robot_core::Params& params) const override;
+  void readConfig(const robot_core::Params& params, const robot_core::RobotGeometry& robot) const override;
 
  protected:
   virtual std::unique_ptr<Board> createBoard() const = 0;

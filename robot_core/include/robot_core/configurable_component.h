@@ -4,6 +4,7 @@
 #pragma once
 
 #include "robot_core/params.h"
+#include "robot_core/robot_geometry.h"
 
 namespace robot_core {
 
@@ -11,9 +12,10 @@ class ConfigurableComponent {
  public:
   virtual ~ConfigurableComponent();
 
-  // Read every parameter of the component from `params`, its private namespace: a bad value
-  // throws ParameterError (one line, the parameter and the value). Opens nothing, starts nothing.
-  virtual void readConfig(const Params& params) const = 0;
+  // Read every parameter of the component from `params`, its private namespace, with the
+  // robot's description `robot` (/robot) for what it takes from there: a bad value throws
+  // ParameterError (one line, the parameter and the value). Opens nothing, starts nothing.
+  virtual void readConfig(const Params& params, const RobotGeometry& robot) const = 0;
 };
 
 }  // namespace robot_core

@@ -71,6 +71,9 @@ class Params {
   int requireInt(const std::string& name) const;
   std::string requireString(const std::string& name) const;
   double optionalDouble(const std::string& name, double fallback) const;
+  // The same, for a fallback taken from elsewhere: declared with `fallback_named` as its default
+  // ("/robot/track_width"), not with a number.
+  double optionalDouble(const std::string& name, double fallback, const std::string& fallback_named) const;
   int optionalInt(const std::string& name, int fallback) const;
   bool optionalBool(const std::string& name, bool fallback) const;
   std::string optionalString(const std::string& name, const std::string& fallback) const;

@@ -4,6 +4,7 @@
 #include "robot_sim/world/config.h"
 
 #include <robot_core/params.h>
+#include <robot_core/robot_geometry.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "robot_sim/world/footprint.h"
@@ -16,6 +17,7 @@ namespace robot_sim {
 namespace {
 
 using robot_core::Params;
+using robot_core::RobotGeometry;
 
 // The world's values read with robot_core's Params (the reader every layer uses) and its rules;
 // these only name the checks the world needs, each failing with the one line naming the parameter.
@@ -134,17 +136,6 @@ TableConfig parseTable(const Params& n) {
   return t;
 }
 
-// A geometry value of the simulated robot: its own (sim/world/robot/KEY) where it sets one, else
-// the robot's description (/robot/DESCRIBED), else the default. `meaning` describes both.
-double described(const Params& n, const std::string& key, const Params& robot, const std::string& described_key,
-                 double def, const std::string& meaning) {
-  if (n.has(key)) {
-    n.describe(key, meaning + "; else the description's " + described_key);
-    return positive(n, key, def);
-  }
-  robot.describe(described_key, meaning);
-  return positive(robot, described_key, def);
-}
 
 // A ranger's mount [x, y, yaw] in base_link from its link ranger_NAME of the description
 // (/robot/links/ranger_NAME/at: [x, y, z] or [x, y, z, roll, pitch, yaw], hung on base_link).
@@ -164,11 +155,15 @@ std::optional<Pose2D> describedMount(const Params& robot, const std::string& ran
 }
 
 RobotConfig parseRobot(const Params& n, const Params& robot) {
+  // A geometry value of the simulated robot: its own (sim/world/robot/KEY) where it sets one, else
+  // the robot's description, else the default.
+  const RobotGeometry described = RobotGeometry::read(robot);
   RobotConfig r;
   n.describe("start", "[m, m, rad] the robot's pose [x, y, theta] in map at t = 0");
   r.start = pose(n, "start", r.start);
-  r.radius = described(n, "radius", robot, "radius", r.radius,
-                       "[m] the outline's radius when no footprint is given (the URDF's chassis cylinder)");
+  r.radius = RobotGeometry::blockOrDescribed(
+      n, "radius", described.radius, "radius",
+      "[m] the outline's radius when no footprint is given (the URDF's chassis cylinder)", r.radius);
   const Params& outline = n.has("footprint") ? n : robot;  // the simulated robot's own, else the description's
   if (outline.has("footprint")) {
     const std::string outline_meaning = "[m] the outline [[x, y], ..] in base_link, vertices in order around it";
@@ -184,10 +179,11 @@ RobotConfig parseRobot(const Params& n, const Params& robot) {
       fail(outline, "footprint", std::string(e.what()).substr(std::string("footprint: ").size()));
     }
   }
-  r.wheel_radius = described(n, "wheel_radius", robot, "wheel_radius", r.wheel_radius,
-                             "[m] radius of the two driven wheels");
-  r.wheel_base = described(n, "wheel_base", robot, "track_width", r.wheel_base,
-                           "[m] distance between the two driven wheels' contact points");
+  r.wheel_radius = RobotGeometry::blockOrDescribed(n, "wheel_radius", described.wheel_radius, "wheel_radius",
+                                                  "[m] radius of the two driven wheels", r.wheel_radius);
+  r.wheel_base = RobotGeometry::blockOrDescribed(n, "wheel_base", described.track_width, "track_width",
+                                                "[m] distance between the two driven wheels' contact points",
+                                                r.wheel_base);
   n.describe("motors", "the motors by name: exactly one with drive: left and one with drive: right, others auxiliary");
   for (const auto& [name, m] : entries(n, "motors")) {
     MotorConfig c;
@@ -234,7 +230,9 @@ RobotConfig parseRobot(const Params& n, const Params& robot) {
     const bool driven_wheel = !c.motor.empty() && !r.motors[c.motor].drive.empty();
     const std::string ticks = "ticks per wheel revolution, quadrature edges included";
     if (!driven_wheel) e.describe("ticks_per_rev", ticks);
-    c.ticks_per_rev = driven_wheel ? described(e, "ticks_per_rev", robot, "encoder_ticks_per_rev", 512, ticks)
+    const std::optional<double> described_ticks = described.encoder_ticks_per_rev;
+    c.ticks_per_rev = driven_wheel ? RobotGeometry::blockOrDescribed(e, "ticks_per_rev", described_ticks,
+                                                                     "encoder_ticks_per_rev", ticks, 512.0)
                                    : positive(e, "ticks_per_rev", 512);
     e.describe("sign", "1, or -1: counts down when the wheel rolls forward");
     c.sign = static_cast<int>(integer(e, "sign", 1));

@@ -24,8 +24,8 @@ NAME_RULE = re.compile(r'^[a-z][a-z0-9_]{1,31}$')
 # What a team edits after the copy, in the order that gets a robot driving (docs/adding.md, "Adding a robot").
 NEXT_STEPS = {
     'table': [
-        'config/{n}.yaml robot: (radius, wheel_radius, track_width, encoder_ticks_per_rev, links): the YAML '
-        'anchors carry them through the config, and the URDF is written from it',
+        'config/{n}.yaml robot: (radius, wheel_radius, track_width, encoder_ticks_per_rev, links): the drive, '
+        'odometry, driver and localization read them from there, and the URDF is written from it',
         'config/{n}.sim.yaml sim/world/robot: what only the simulator needs (motors\' dynamics, switches, '
         'collectors, noise); its outline, wheels and ranger mounts come from robot: above',
         'the start zone (table/start_zones, the robot in it) decides the colour: hal/localization/initial_pose, '

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <robot_core/params.h>
+#include <robot_core/robot_geometry.h>
 
 #include <string>
 #include <vector>
@@ -16,13 +17,16 @@
 namespace hal_nodes {
 namespace driver {
 
-// limits/*, speed_curve/*, turn_curve/*, turn_in_place_angle, near_radius.
-AutopilotConfig readAutopilotConfig(const robot_core::Params& driver);
+// limits/*, speed_curve/*, turn_curve/*, turn_in_place_angle, near_radius; the track width from
+// the robot's description unless limits/track_width sets one.
+AutopilotConfig readAutopilotConfig(const robot_core::Params& driver, const robot_core::RobotGeometry& robot);
 // path/*.
 PathFollowerConfig readPathFollowerConfig(const robot_core::Params& driver);
-// avoidance/* (the table's size comes from /table, read by the device); checks that the brake
+// avoidance/* (the table's size comes from /table, read by the device; our radius from the robot's
+// description unless avoidance/robot_radius sets one); checks that the brake
 // stops from full speed (the autopilot's limits) within braking_distance.
-AvoidanceConfig readAvoidanceConfig(const robot_core::Params& driver, const AutopilotConfig& autopilot);
+AvoidanceConfig readAvoidanceConfig(const robot_core::Params& driver, const AutopilotConfig& autopilot,
+                                    const robot_core::RobotGeometry& robot);
 
 // What the Driver device needs besides its controllers: goal defaults, how old an input may be,
 // the passing-fault and stall policy, its frames and topics.

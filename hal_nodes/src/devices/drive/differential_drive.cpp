@@ -31,9 +31,8 @@ namespace hal_nodes {
 class DifferentialDrive : public Effector {
  public:
   void configure(const robot_core::Params& params) override {
-    params.describe("track_width", "[m] the distance between the driven wheels");
-    track_width_ = params.requireDouble("track_width");
-    params.requirePositive("track_width", track_width_);
+    track_width_ = robot_core::RobotGeometry::blockOrDescribed(params, "track_width", robot().track_width, "track_width",
+                                                               "[m] the distance between the driven wheels");
     const std::string clamp = params.renamed("wheel_speed_clamp", "max_wheel_speed");
     params.describe(clamp, "[m/s] faster wheel speeds are scaled down keeping the curvature");
     wheel_speed_clamp_ = params.requireDouble(clamp);

@@ -8,8 +8,8 @@ using namespace driver_device;
 
 void Driver::configure(const robot_core::Params& params) {
   // the readers the bench and tests use too
-  config_ = readAutopilotConfig(params);
-  avoidance_config_ = readAvoidanceConfig(params, config_);
+  config_ = readAutopilotConfig(params, robot());
+  avoidance_config_ = readAvoidanceConfig(params, config_, robot());
   avoidance_name_ = params.qualified("avoidance");
   settings_ = readDriverDeviceConfig(params);
   path_config_ = readPathFollowerConfig(params);

@@ -25,8 +25,8 @@ void readInRange(const Params& p, const std::string& name, double* value, double
 
 }  // namespace
 
-LocalizationConfig readLocalizationConfig(const Params& p, const Params& table) {
-  LocalizationConfig c = readLocalizationConfig(p);
+LocalizationConfig readLocalizationConfig(const Params& p, const Params& table, const robot_core::RobotGeometry& robot) {
+  LocalizationConfig c = readLocalizationConfig(p, robot);
   readTableConfig(table, p, &c);
   return c;
 }
@@ -50,11 +50,12 @@ void readTableConfig(const Params& table, const Params& p, LocalizationConfig* c
   }
 }
 
-LocalizationConfig readLocalizationConfig(const Params& p) {
+LocalizationConfig readLocalizationConfig(const Params& p, const robot_core::RobotGeometry& robot) {
   LocalizationConfig c;
   // ~robot_radius: its range depends on the table's size, checked by readTableConfig
-  p.describe("robot_radius", "[m] the table margin: the robot's centre keeps this far from the borders and obstacles");
-  c.robot_radius = p.optionalDouble("robot_radius", c.robot_radius);
+  c.robot_radius = robot_core::RobotGeometry::blockOrDescribed(
+      p, "robot_radius", robot.radius, "radius",
+      "[m] the table margin: the robot's centre keeps this far from the borders and obstacles", c.robot_radius);
   p.describe("obstacles", "[m] fixed obstacles on the table, a list of [x0, y0, x1, y1]");
   for (const auto& o : p.optionalDoubleRows("obstacles", 4)) {
     if (!(o[0] < o[2] && o[1] < o[3])) p.check("obstacles", "each [x0, y0, x1, y1] needs x0 < x1 and y0 < y1");

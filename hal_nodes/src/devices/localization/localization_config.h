@@ -5,6 +5,7 @@
 
 #include <ros/ros.h>
 #include <robot_core/params.h>
+#include <robot_core/robot_geometry.h>
 
 #include <string>
 #include <vector>
@@ -58,13 +59,14 @@ struct LocalizationConfig {
 
 // The device's own block (~, the device's configure()): everything but the table's part, which
 // stays at its defaults. Throws ParameterError.
-LocalizationConfig readLocalizationConfig(const robot_core::Params& device);
+LocalizationConfig readLocalizationConfig(const robot_core::Params& device, const robot_core::RobotGeometry& robot);
 // The table's part from /table (outside the device's block: read by the device's init()): its
 // size and, with the beacons enabled, their positions; checks ~robot_radius (of `device`, read
 // into `c` already) against the size. Throws ParameterError.
 void readTableConfig(const robot_core::Params& table, const robot_core::Params& device, LocalizationConfig* c);
 // Both (the device's block and /table of a YAML file: check_hal_config).
-LocalizationConfig readLocalizationConfig(const robot_core::Params& device, const robot_core::Params& table);
+LocalizationConfig readLocalizationConfig(const robot_core::Params& device, const robot_core::Params& table,
+                                          const robot_core::RobotGeometry& robot);
 
 }  // namespace localization
 }  // namespace hal_nodes

@@ -80,7 +80,7 @@ class LocalizationDevice : public Device {
   LocalizationDevice() : events_(20000) {}
 
   void configure(const robot_core::Params& params) override {
-    config_ = localization::readLocalizationConfig(params);
+    config_ = localization::readLocalizationConfig(params, robot());
     params_ = params;
   }
 

@@ -73,9 +73,9 @@ class OdometryDevice : public Device {
       pair.model.left_m_per_tick = 1.0 / nonZero(p, "left_ticks_per_meter");
       p.describe("right_ticks_per_meter", "[1/m] right encoder ticks per metre, non-zero (negative: a mirrored encoder)");
       pair.model.right_m_per_tick = 1.0 / nonZero(p, "right_ticks_per_meter");
-      p.describe("track_width", "[m] the distance between this pair's wheels");
-      pair.model.track_width = p.requireDouble("track_width");
-      p.requirePositive("track_width", pair.model.track_width);
+      // The driven wheels' pair has the robot's track; a pair of measuring wheels sets its own.
+      pair.model.track_width = robot_core::RobotGeometry::blockOrDescribed(
+          p, "track_width", robot().track_width, "track_width", "[m] the distance between this pair's wheels");
       p.describe("reliability", "this pair's weight in the fusion");
       pair.reliability = p.optionalDouble("reliability", 1.0);
       p.requireInRange("reliability", pair.reliability, 1e-6, 1.0);
