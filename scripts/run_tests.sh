@@ -16,15 +16,15 @@ lint_out=$(catkin_lint -W1 src 2>&1); lint_rc=$?
 echo "$lint_out" | tail -n 20
 lint_problems=$(echo "$lint_out" | grep -cE 'error:|warning:|cannot lint' || true)  # a package it could not read is a problem too
 
-# Test binaries build in parallel; the tests run one at a time (TEST_JOBS=N overlaps them on a
-# machine with more cores: scripts/test_pool.py says why not on two).
+# Test binaries build in parallel; the tests run side by side within a CPU budget
+# (scripts/test_pool.py says how; TEST_JOBS=1 runs them one at a time).
 catkin_make -j2 -DCATKIN_ENABLE_TESTING=ON tests 2>&1 | grep -E 'error|warning' | head -n 50
 if [ "$quick" = 1 ]; then
   echo "== gtests, nosetests and fuzz targets (no simulation, no master)"
-  python3 "$root/scripts/test_pool.py" --quick --jobs "${TEST_JOBS:-1}"
+  python3 "$root/scripts/test_pool.py" --quick
 else
-  echo "== unit tests and rostests (scripts/test_pool.py, ${TEST_JOBS:-1} at a time)"
-  python3 "$root/scripts/test_pool.py" --jobs "${TEST_JOBS:-1}"
+  echo "== unit tests and rostests (scripts/test_pool.py)"
+  python3 "$root/scripts/test_pool.py"
   echo "== the recipes of docs/adding.md: a board and a device added as a user does (scripts/check_recipe.sh)"
   bash "$root/scripts/check_recipe.sh" build/test_results/recipe/recipe_check.xml 2>&1 | grep '^recipe:'
 fi

@@ -2,19 +2,23 @@
 """Runs the workspace's test targets (catkin's run_tests_<package>_<kind>_<name>) one after the
 other, or on a pool of --jobs slots, longest first, and says what each one cost.
 
-A simulated stack keeps about one core busy, at real-time factor 1 as much as at full speed (the
-cost is in deliveries and wake-ups: docs/message-budget.md), so on two cores tests side by side
-only stretch each other, and a stretched stack misses its own watchdogs (`process /brain: not
-answering within 0.20 s`). `make test` therefore runs one test at a time (TEST_JOBS=1). On a
-machine with more cores, TEST_JOBS=N overlaps them: each test keeps its own ROS master (rostest
-picks a free port) and its own emulator ports (two tests that share a port never run together),
-the HEAVY ones never run beside each other, and a RUN_ALONE one runs with nothing beside it.
+Tests run side by side within a CPU budget. Each test's load is the cores it keeps busy (its
+CPU seconds over its wall seconds, from build/test_durations.json, which every run writes, or
+for a tree that has never run from test/test_costs.json, a quiet one-at-a-time run committed
+with the tests). A test starts when the loads of the tests running plus its own stay within
+--budget (0.85 of the cores): a simulated match played as fast as the machine goes keeps 1.3-1.5
+cores busy, so beside it only a test that mostly waits (a rostest of a board, a unit test) may
+start, while two such tests share the machine. A stack stretched past the cores misses its own
+watchdogs (`process /brain: not answering within 0.20 s`), which the budget prevents. Besides the
+budget: the HEAVY ones never run beside each other, a RUN_ALONE one runs with nothing beside it,
+two tests that share an emulator port never run together, and each test keeps its own ROS master
+(rostest picks a free port). TEST_JOBS=1 runs one test at a time.
 
 Prints one line per test as it ends (wall seconds, CPU seconds of the test and everything it
 started, result), the output of a test that failed, and a closing line; writes the figures to
 build/test_durations.json, which the next run on this tree orders by.
 
-  test_pool.py [--jobs N] [--quick] [--only REGEX] [--list]
+  test_pool.py [--jobs N] [--budget CORES] [--quick] [--only REGEX] [--list] [--save-costs]
 Called by run_tests.sh with the workspace sourced, once the test binaries are built.
 """
 import argparse
@@ -31,10 +35,14 @@ import xml.etree.ElementTree as ET
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = os.path.join(ROOT, 'build')
 DURATIONS = os.path.join(BUILD, 'test_durations.json')
+COSTS = os.path.join(ROOT, 'test', 'test_costs.json')
 
-# Tests that measure latency or rates: anything beside them would measure the machine.
+# Tests that measure latency or rates (anything beside them would measure the machine), or that
+# change what the others read.
 RUN_ALONE = {
     'run_tests_system_tests_rostest_launch_reflex_latency.test': 'measures the reflex latency p99',
+    'run_tests_system_tests_nosetests_unit.test_new_robot.py':
+        'adds robots to the checkout (config/, launch/) while it runs: a test listing the robots would see them',
 }
 # Tests outside rostest that play simulated matches or boot a VM, with their expected wall seconds
 # (the rest of the gtests, nosetests and fuzz targets take seconds).
@@ -84,12 +92,59 @@ def time_limit(test_file):
     return sum(float(t.get('time-limit', 60)) for t in root.iter('test'))
 
 
-def fixed_ports(test_file):
-    """The loopback ports a .test gives its emulators (CAN over UDP, the camera): two tests side by
-    side must not share one."""
-    text = open(test_file).read()
+CHANNEL_ARGS = ('can_bus', 'sim_dir', 'camera_port')
+
+
+def robot_launches():
+    """The launch files with simulation channel arguments (the CAN bus, the emulators' directory,
+    the webcam port), by file name: a simulation on their defaults owns those channels."""
+    found = {}
+    for path in glob.glob(os.path.join(ROOT, 'launch', '*.launch')):
+        names = {a.get('name') for a in ET.parse(path).getroot().iter('arg')} & set(CHANNEL_ARGS)
+        if names:
+            found[os.path.basename(path)] = names
+    return found
+
+
+def test_texts(target, test_file, packages):
+    """The text of what a test runs: its .test file, the launch files it includes (not the robots'
+    own), and the test scripts beside it that the .test or a nosetests target names."""
+    texts, files = [], []
+    if test_file:
+        files.append(test_file)
+    m = re.match(r'run_tests_system_tests_nosetests_(\S+\.py)$', target)
+    if m:
+        files += glob.glob(os.path.join(packages.get('system_tests', ''), m.group(1).replace('.', '/', 1)))
+    seen = set()
+    while files:
+        path = files.pop()
+        if path in seen or not os.path.exists(path):
+            continue
+        seen.add(path)
+        text = open(path).read()
+        texts.append(text)
+        if path.endswith(('.test', '.launch')):
+            here = os.path.dirname(path)
+            for inc in re.findall(r'<include file="([^"]+)"', text):
+                inc = re.sub(r'\$\(find (\w+)\)', lambda g: packages.get(g.group(1), ''), inc)
+                inc = os.path.normpath(inc.replace('$(dirname)', here))
+                if os.path.dirname(inc) != os.path.join(ROOT, 'launch'):
+                    files.append(inc)
+            for script in re.findall(r'<test [^>]*type="([^"]+\.py)"', text):
+                files += glob.glob(os.path.join(packages.get('system_tests', ''), 'scripts', script))
+    return texts
+
+
+def fixed_channels(target, test_file, packages, launches):
+    """The channels a test takes that another test could take too: the loopback ports it gives
+    its emulators, and each robot launch's default channels it starts that robot on. Two tests
+    that share one never run together."""
+    text = '\n'.join(test_texts(target, test_file, packages))
     found = set(re.findall(r'127\.0\.0\.1:(\d+)', text))
-    found |= {p for p in re.findall(r'name="camera_port" value="(\d+)"', text)}
+    found |= set(re.findall(r'name="camera_port" value="(\d+)"', text))
+    for launch, names in launches.items():
+        if launch in text:
+            found |= {'%s %s' % (launch, n) for n in names if n + ':=' not in text and 'name="%s"' % n not in text}
     return found
 
 
@@ -101,6 +156,25 @@ def estimate(target, test_file, history):
     if test_file:
         return time_limit(test_file) / 3.0  # the limits leave about 3x room
     return 10.0
+
+
+def load(target, history):
+    """The cores a test keeps busy: its CPU over its wall time when measured, else a guess on the
+    safe side (a simulated one keeps a core and a half, anything else one)."""
+    h = history.get(target)
+    if h and h['wall_s'] > 0:
+        return min(h['cpu_s'] / h['wall_s'], float(os.cpu_count() or 1))
+    return 1.5 if target in HEAVY else 1.0
+
+
+def read_costs():
+    """Measured figures per target: the committed reference, overridden by this tree's last run."""
+    history = {}
+    for path in (COSTS, DURATIONS):
+        if os.path.exists(path):
+            with open(path) as f:
+                history.update(json.load(f))
+    return history
 
 
 def run(target, log_dir):
@@ -152,18 +226,30 @@ def result_failed(target, test_file):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--jobs', type=int, default=int(os.environ.get('TEST_JOBS', 1)),
-                    help='tests at once (default TEST_JOBS or 1)')
+    cores = os.cpu_count() or 1
+    ap.add_argument('--jobs', type=int, default=int(os.environ.get('TEST_JOBS', cores)),
+                    help='tests at once at most (default TEST_JOBS or the number of cores, %d)' % cores)
+    ap.add_argument('--budget', type=float, default=0.85 * cores,
+                    help='cores the tests running side by side may keep busy together (default %.2f)'
+                    % (0.85 * cores))
     ap.add_argument('--quick', action='store_true', help='gtests, nosetests and fuzz targets only, no simulation')
     ap.add_argument('--only', help='run only the targets matching this regular expression')
     ap.add_argument('--list', action='store_true', help='print the targets in the order they would start')
+    ap.add_argument('--save-costs', action='store_true',
+                    help="write this tree's last measured figures to %s (after a quiet run with TEST_JOBS=1)"
+                    % os.path.relpath(COSTS, ROOT))
     args = ap.parse_args()
+    if args.save_costs:
+        with open(DURATIONS) as f:
+            measured = json.load(f)
+        with open(COSTS, 'w') as f:
+            json.dump({t: measured[t] for t in targets() if t in measured}, f, indent=1, sort_keys=True)
+            f.write('\n')
+        return 0
 
     packages = package_dirs()
-    history = {}
-    if os.path.exists(DURATIONS):
-        with open(DURATIONS) as f:
-            history = json.load(f)
+    launches = robot_launches()
+    history = read_costs()
     todo = []
     for t in targets():
         kind = re.match(r'run_tests_.+?_(gtest|nosetests|fuzz|rostest|vm)_', t).group(1)
@@ -173,11 +259,11 @@ def main():
             continue
         test_file = rostest_file(t, packages) if kind == 'rostest' else None
         todo.append({'target': t, 'file': test_file, 'estimate': estimate(t, test_file, history),
-                     'ports': fixed_ports(test_file) if test_file else set()})
+                     'load': load(t, history), 'ports': fixed_channels(t, test_file, packages, launches)})
     todo.sort(key=lambda x: -x['estimate'])
     if args.list:
         for x in todo:
-            print('%7.0f s  %s%s' % (x['estimate'], x['target'], '  (alone)' if x['target'] in RUN_ALONE else
+            print('%7.0f s %4.2f cores  %s%s' % (x['estimate'], x['load'], x['target'], '  (alone)' if x['target'] in RUN_ALONE else
                                      '  (heavy)' if x['target'] in HEAVY else ''))
         return 0
 
@@ -190,6 +276,7 @@ def main():
         busy_ports = set().union(*[r[0]['ports'] for r in running.values()])
         alone_running = any(r[0]['target'] in RUN_ALONE for r in running.values())
         heavy_running = any(r[0]['target'] in HEAVY for r in running.values())
+        busy_cores = sum(r[0]['load'] for r in running.values())
         started = False
         for x in list(todo):
             if len(running) >= args.jobs or alone_running:
@@ -198,12 +285,15 @@ def main():
                 break  # wait until the pool drains, then it runs by itself
             if x['ports'] & busy_ports or (x['target'] in HEAVY and heavy_running):
                 continue
+            if running and busy_cores + x['load'] > args.budget:
+                continue
             proc, log, t0 = run(x['target'], log_dir)
             running[proc.pid] = (x, proc, log, t0)
             todo.remove(x)
             started = True
             alone_running = x['target'] in RUN_ALONE
             heavy_running |= x['target'] in HEAVY
+            busy_cores += x['load']
             busy_ports |= x['ports']
         if not running:
             if todo and not started:
@@ -230,8 +320,8 @@ def main():
     with open(DURATIONS, 'w') as f:
         json.dump(history, f, indent=1, sort_keys=True)
     cpu = sum(c for _, _, c, _ in done)
-    print('test_pool: %d targets in %.0f s on %d slots (%.0f s of test wall time, %.0f CPU s); %d failed'
-          % (len(done), total, args.jobs, sum(w for _, w, _, _ in done), cpu, len(failed)))
+    print('test_pool: %d targets in %.0f s on %d slots within %.2f cores (%.0f s of test wall time, %.0f CPU s); '
+          '%d failed' % (len(done), total, args.jobs, args.budget, sum(w for _, w, _, _ in done), cpu, len(failed)))
     return 1 if failed else 0
 
 
