@@ -3,16 +3,15 @@
 other, or on a pool of --jobs slots, longest first, and says what each one cost.
 
 Tests run side by side within a CPU budget. Each test's load is the cores it keeps busy (its
-CPU seconds over its wall seconds, from build/test_durations.json, which every run writes, or
-for a tree that has never run from test/test_costs.json, a quiet one-at-a-time run committed
-with the tests). A test starts when the loads of the tests running plus its own stay within
---budget (0.85 of the cores): a simulated match played as fast as the machine goes keeps 1.3-1.5
-cores busy, so beside it only a test that mostly waits (a rostest of a board, a unit test) may
-start, while two such tests share the machine. A stack stretched past the cores misses its own
-watchdogs (`process /brain: not answering within 0.20 s`), which the budget prevents. Besides the
-budget: the HEAVY ones never run beside each other, a RUN_ALONE one runs with nothing beside it,
-two tests that share an emulator port never run together, and each test keeps its own ROS master
-(rostest picks a free port). TEST_JOBS=1 runs one test at a time.
+CPU seconds over its wall seconds in test/test_costs.json, a quiet one-at-a-time run committed
+with the tests; else as this tree's build/test_durations.json last measured it). A test starts
+when the loads of the tests running plus its own stay within --budget (0.85 of the cores): a
+stack stretched past the cores misses its own watchdogs (`process /brain: not answering within
+0.20 s`). The HEAVY ones (matches played as fast as the machine goes, a VM) and the RUN_ALONE
+ones run with nothing beside them: they take every core they get, and a stack's CPU grows with
+its wall time, so a test beside one costs it more than it saves. Two tests that share an
+emulator port or a robot's default channels never run together, and each test keeps its own ROS
+master (rostest picks a free port). TEST_JOBS=1 runs one test at a time.
 
 Prints one line per test as it ends (wall seconds, CPU seconds of the test and everything it
 started, result), the output of a test that failed, and a closing line; writes the figures to
@@ -50,8 +49,8 @@ SIMULATED = {
     'run_tests_system_tests_nosetests_unit.test_new_robot.py': 300,
     'run_tests_system_tests_vm_can_socketcan': 150,
 }
-# Tests that keep a core busy for minutes (matches played as fast as the machine goes, a VM in
-# software emulation): two of them side by side trip each other's watchdogs.
+# Tests that keep the cores busy for minutes (matches played as fast as the machine goes, a VM in
+# software emulation): they run with nothing beside them.
 HEAVY = {'run_tests_system_tests_rostest_launch_%s.test' % name for name in (
     'calibrate_recovery_eurobot2009', 'chaos_smoke', 'matches_smoke', 'matches_cluster', 'tune_smoke',
     'soak_smoke', 'match_respawn_eurobot2009', 'match_blocked_eurobot2009', 'match_blocked_logion',
@@ -107,8 +106,9 @@ def robot_launches():
 
 
 def test_texts(target, test_file, packages):
-    """The text of what a test runs: its .test file, the launch files it includes (not the robots'
-    own), and the test scripts beside it that the .test or a nosetests target names."""
+    """The text of what a test runs: its .test file, the launch and YAML files it includes or
+    loads (not the robots' own launch files), and the test scripts beside it that the .test or a
+    nosetests target names."""
     texts, files = [], []
     if test_file:
         files.append(test_file)
@@ -125,7 +125,8 @@ def test_texts(target, test_file, packages):
         texts.append(text)
         if path.endswith(('.test', '.launch')):
             here = os.path.dirname(path)
-            for inc in re.findall(r'<include file="([^"]+)"', text):
+            loaded = re.findall(r'<include file="([^"]+)"', text) + re.findall(r'<rosparam [^>]*file="([^"]+)"', text)
+            for inc in loaded:
                 inc = re.sub(r'\$\(find (\w+)\)', lambda g: packages.get(g.group(1), ''), inc)
                 inc = os.path.normpath(inc.replace('$(dirname)', here))
                 if os.path.dirname(inc) != os.path.join(ROOT, 'launch'):
@@ -145,6 +146,12 @@ def fixed_channels(target, test_file, packages, launches):
     for launch, names in launches.items():
         if launch in text:
             found |= {'%s %s' % (launch, n) for n in names if n + ':=' not in text and 'name="%s"' % n not in text}
+            # and the ports its config and sim overlay fix (the skeleton's board), whatever the arguments
+            robot = launch[:-len('.launch')]
+            for config in ('%s.yaml' % robot, '%s.sim.yaml' % robot):
+                path = os.path.join(ROOT, 'config', config)
+                if os.path.exists(path):
+                    found |= set(re.findall(r'127\.0\.0\.1:(\d+)', open(path).read()))
     return found
 
 
@@ -158,23 +165,23 @@ def estimate(target, test_file, history):
     return 10.0
 
 
-def load(target, history):
-    """The cores a test keeps busy: its CPU over its wall time when measured, else a guess on the
-    safe side (a simulated one keeps a core and a half, anything else one)."""
-    h = history.get(target)
+def load(target, reference, history):
+    """The cores a test keeps busy: its CPU over its wall time in the committed quiet run, else as
+    this tree last measured it, else a guess on the safe side (a simulated one keeps a core and a
+    half, anything else one). The reference comes first: a run that failed early or ran tests
+    side by side measures less than the test needs."""
+    h = reference.get(target) or history.get(target)
     if h and h['wall_s'] > 0:
         return min(h['cpu_s'] / h['wall_s'], float(os.cpu_count() or 1))
     return 1.5 if target in HEAVY else 1.0
 
 
-def read_costs():
-    """Measured figures per target: the committed reference, overridden by this tree's last run."""
-    history = {}
-    for path in (COSTS, DURATIONS):
-        if os.path.exists(path):
-            with open(path) as f:
-                history.update(json.load(f))
-    return history
+def read_figures(path):
+    """{target: {wall_s, cpu_s}} from a figures file, empty when there is none."""
+    if not os.path.exists(path):
+        return {}
+    with open(path) as f:
+        return json.load(f)
 
 
 def run(target, log_dir):
@@ -249,7 +256,7 @@ def main():
 
     packages = package_dirs()
     launches = robot_launches()
-    history = read_costs()
+    reference, history = read_figures(COSTS), read_figures(DURATIONS)
     todo = []
     for t in targets():
         kind = re.match(r'run_tests_.+?_(gtest|nosetests|fuzz|rostest|vm)_', t).group(1)
@@ -258,8 +265,8 @@ def main():
         if args.only and not re.search(args.only, t):
             continue
         test_file = rostest_file(t, packages) if kind == 'rostest' else None
-        todo.append({'target': t, 'file': test_file, 'estimate': estimate(t, test_file, history),
-                     'load': load(t, history), 'ports': fixed_channels(t, test_file, packages, launches)})
+        todo.append({'target': t, 'file': test_file, 'estimate': estimate(t, test_file, {**reference, **history}),
+                     'load': load(t, reference, history), 'alone': t in RUN_ALONE or t in HEAVY, 'ports': fixed_channels(t, test_file, packages, launches)})
     todo.sort(key=lambda x: -x['estimate'])
     if args.list:
         for x in todo:
@@ -274,16 +281,15 @@ def main():
     start_all = time.monotonic()
     while todo or running:
         busy_ports = set().union(*[r[0]['ports'] for r in running.values()])
-        alone_running = any(r[0]['target'] in RUN_ALONE for r in running.values())
-        heavy_running = any(r[0]['target'] in HEAVY for r in running.values())
+        alone_running = any(r[0]['alone'] for r in running.values())
         busy_cores = sum(r[0]['load'] for r in running.values())
         started = False
         for x in list(todo):
             if len(running) >= args.jobs or alone_running:
                 break
-            if x['target'] in RUN_ALONE and running:
+            if x['alone'] and running:
                 break  # wait until the pool drains, then it runs by itself
-            if x['ports'] & busy_ports or (x['target'] in HEAVY and heavy_running):
+            if x['ports'] & busy_ports:
                 continue
             if running and busy_cores + x['load'] > args.budget:
                 continue
@@ -291,8 +297,7 @@ def main():
             running[proc.pid] = (x, proc, log, t0)
             todo.remove(x)
             started = True
-            alone_running = x['target'] in RUN_ALONE
-            heavy_running |= x['target'] in HEAVY
+            alone_running = x['alone']
             busy_cores += x['load']
             busy_ports |= x['ports']
         if not running:
@@ -316,7 +321,7 @@ def main():
             sys.stdout.write(''.join(lines[-200:]))
             sys.stdout.flush()
     total = time.monotonic() - start_all
-    history.update({t: {'wall_s': round(w, 1), 'cpu_s': round(c, 1)} for t, w, c, _ in done})
+    history.update({t: {'wall_s': round(w, 1), 'cpu_s': round(c, 1)} for t, w, c, bad in done if not bad})
     with open(DURATIONS, 'w') as f:
         json.dump(history, f, indent=1, sort_keys=True)
     cpu = sum(c for _, _, c, _ in done)

@@ -23,11 +23,8 @@ RobotGeometry RobotGeometry::read(const Params& robot) {
   g.radius = positiveIfGiven(robot, "radius", "[m] the footprint's circumscribed radius (the URDF's chassis)");
   g.wheel_radius = positiveIfGiven(robot, "wheel_radius", "[m] radius of the driven wheels");
   g.track_width = positiveIfGiven(robot, "track_width", "[m] between the driven wheels' contact points");
-  robot.describe("encoder_ticks_per_rev", "the driven wheels' encoders: ticks per wheel revolution");
-  if (robot.has("encoder_ticks_per_rev")) {
-    g.encoder_ticks_per_rev = robot.requireInt("encoder_ticks_per_rev");
-    robot.requirePositive("encoder_ticks_per_rev", *g.encoder_ticks_per_rev);
-  }
+  g.encoder_ticks_per_rev =
+      positiveIfGiven(robot, "encoder_ticks_per_rev", "the driven wheels' encoders: ticks per wheel revolution");
   return g;
 }
 

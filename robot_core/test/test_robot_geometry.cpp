@@ -51,7 +51,7 @@ TEST(RobotGeometry, ABlockTakesTheDescriptionsValueUnlessItSetsItsOwn) {
       "  bad: {track_width: -0.3}\n");
   const RobotGeometry g = RobotGeometry::read(Params::fromYamlFile(f, "robot"));
   EXPECT_FALSE(g.wheel_radius);  // left out of the description: empty, not a default
-  EXPECT_EQ(*g.encoder_ticks_per_rev, 512);
+  EXPECT_DOUBLE_EQ(*g.encoder_ticks_per_rev, 512.0);
   const Params drive = Params::fromYamlFile(f, "hal/drive");
   EXPECT_DOUBLE_EQ(RobotGeometry::blockOrDescribed(drive, "track_width", g.track_width, "track_width", "[m] track"), 0.25);
   EXPECT_EQ(drive.declarations().at("track_width").fallback, "/robot/track_width");  // the table's default column

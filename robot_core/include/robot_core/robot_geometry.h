@@ -17,7 +17,7 @@ struct RobotGeometry {
   std::optional<double> radius;          // [m] the footprint's circumscribed radius
   std::optional<double> wheel_radius;    // [m] the driven wheels
   std::optional<double> track_width;     // [m] between the driven wheels' contact points
-  std::optional<int> encoder_ticks_per_rev;  // the driven wheels' encoders
+  std::optional<double> encoder_ticks_per_rev;  // the driven wheels' encoders, per wheel revolution
 
   // The description's values from its block (/robot, or the robot block of a YAML file), each
   // > 0 where given; a value the description leaves out stays empty. Throws ParameterError.

@@ -230,8 +230,7 @@ RobotConfig parseRobot(const Params& n, const Params& robot) {
     const bool driven_wheel = !c.motor.empty() && !r.motors[c.motor].drive.empty();
     const std::string ticks = "ticks per wheel revolution, quadrature edges included";
     if (!driven_wheel) e.describe("ticks_per_rev", ticks);
-    const std::optional<double> described_ticks = described.encoder_ticks_per_rev;
-    c.ticks_per_rev = driven_wheel ? RobotGeometry::blockOrDescribed(e, "ticks_per_rev", described_ticks,
+    c.ticks_per_rev = driven_wheel ? RobotGeometry::blockOrDescribed(e, "ticks_per_rev", described.encoder_ticks_per_rev,
                                                                      "encoder_ticks_per_rev", ticks, 512.0)
                                    : positive(e, "ticks_per_rev", 512);
     e.describe("sign", "1, or -1: counts down when the wheel rolls forward");

@@ -74,8 +74,11 @@ class OdometryDevice : public Device {
       p.describe("right_ticks_per_meter", "[1/m] right encoder ticks per metre, non-zero (negative: a mirrored encoder)");
       pair.model.right_m_per_tick = 1.0 / nonZero(p, "right_ticks_per_meter");
       // The driven wheels' pair has the robot's track; a pair of measuring wheels sets its own.
+      p.describe("driven_wheels", "true: this pair counts the driven wheels, its track is the robot's (/robot/track_width)");
+      const bool driven_wheels = p.optionalBool("driven_wheels", false);
       pair.model.track_width = robot_core::RobotGeometry::blockOrDescribed(
-          p, "track_width", robot().track_width, "track_width", "[m] the distance between this pair's wheels");
+          p, "track_width", driven_wheels ? robot().track_width : std::nullopt, "track_width",
+          "[m] the distance between this pair's wheels (required unless driven_wheels)");
       p.describe("reliability", "this pair's weight in the fusion");
       pair.reliability = p.optionalDouble("reliability", 1.0);
       p.requireInRange("reliability", pair.reliability, 1e-6, 1.0);

@@ -1,8 +1,9 @@
 """What `make calibrate` writes (scripts/calibrate.py): the two overlays, the report and its PNG.
 
   config/<robot>.calibrated.yaml      over config/<robot>.yaml: the odometry's ticks per metre, the
-                                      track width wherever the config shares it by alias, the robot's wheel
-                                      radius (the robot block: what the URDF and the checks read)
+                                      robot's track width (which the HAL devices read; also any block
+                                      that shares it by YAML alias) and wheel radius (the robot block:
+                                      what the URDF, the devices and the checks read)
   config/<robot>.calibrated.sim.yaml  over config/<robot>.sim.yaml, in the simulator's own names:
                                       sim/world/robot/{wheel_radius, wheel_base, motors/<m>/{max_speed,
                                       time_constant, dead_band}, slip/{per_accel, noise_std},
