@@ -8,19 +8,11 @@
 #include <unistd.h>
 
 #include "robot_core/params.h"
+#include "yaml_file.h"
 
 using robot_core::ParameterError;
 using robot_core::Params;
 
-namespace {
-std::string writeYaml(const std::string& text) {
-  char name[] = "/tmp/test_params_XXXXXX";
-  const int fd = mkstemp(name);
-  close(fd);
-  std::ofstream(name) << text;
-  return name;
-}
-}  // namespace
 
 TEST(Params, TypesAsRosparamLoadsThem) {
   const std::string f = writeYaml(

@@ -8,19 +8,13 @@
 #include <unistd.h>
 
 #include "robot_core/robot_geometry.h"
+#include "yaml_file.h"
 
 using robot_core::ParameterError;
 using robot_core::Params;
 using robot_core::RobotGeometry;
 
 namespace {
-std::string writeYaml(const std::string& text) {
-  char name[] = "/tmp/test_robot_geometry_XXXXXX";
-  const int fd = mkstemp(name);
-  close(fd);
-  std::ofstream(name) << text;
-  return name;
-}
 
 std::string errorOf(const std::function<void()>& read) {
   try {
