@@ -1,30 +1,12 @@
 """The brain node: loads the strategy named by ~strategy and runs it under the match timer.
 
-Parameters (config/<robot>.yaml, block `brain:`):
-  ~strategy            registered strategy name (required)
-  ~rate                [Hz] execute() rate (default 10)
-  ~device_timeout      [s] how long to wait for the strategy's HAL devices (default 10)
-  ~strategy_modules    extra Python modules that @register strategies (default [])
-  ~match/enabled       run under the match timer (default: the strategy's `timed`)
-  ~match/duration      [s] match length, start signal to match end (default 90); simulated
-                       seconds under use_sim_time, the monotonic clock on the robot
-  ~match/start         cord: wait for the start signal; immediate: start at once (default cord)
-  ~match/start_topic   the HAL human interface (hal_nodes/HumanInput, `started`) (default /hal/hmi/input)
-  ~match/funny_action  run the strategy's funny_action() after the match end (default false)
-  ~match/deactivate_service  (default /effectors/deactivate, std_srvs/Trigger, from hal_node)
-  ~match/end_topic     (default /effectors/match_end, std_msgs/Time, latched): the match's end in
-                       ROS time, published at the start; hal_node deactivates the effectors then
-                       by itself should the brain be dead or stuck at the end
-  ~match/resume        written by the brain at the start: {started_at, clock, strategy}. A brain
-                       respawned mid-match finds it and resumes the match (no start signal, the
-                       elapsed time kept, the strategy from its first state). The launch clears
-                       it (clear_params): a new launch starts a new match.
-  ~ready/nodes, ~ready/optional  what "ready" needs (smart_brain/readiness.py)
-  ~ready/grace         [s, wall] start-up: "not ready" is logged at INFO this long, then WARN (default 15)
-  ~ready/display       the HMI display's text input (std_msgs/String, default /hal/hmi/text):
-                       "ready: pull cord" or what is not ready, while waiting for the start
-  ~triggers/<kind>     trigger blocks for state-machine strategies (smart_brain/triggers)
-  ~<strategy>/...      each strategy's own block
+Parameters: the `brain:` block of config/<robot>.yaml, read at start by brain_config.py (every
+one in smart_brain/PARAMETERS.md). `~match/resume` is written by the brain at the start
+({started_at, clock, strategy}): a brain respawned mid-match finds it and resumes the match (no
+start signal, the elapsed time kept, the strategy from its first state); the launch clears it
+(clear_params), so a new launch starts a new match. At the start the brain publishes the match's
+end (ROS time) on `~match/end_topic`; hal_node switches the effectors off then by itself should
+the brain be dead or stuck at the end.
 
 Interface:
   ~start (std_srvs/Trigger)              start signal without the cord (operator, tests)
@@ -44,9 +26,11 @@ import time
 
 import rospy
 from robot_core import sim_time_sleep
+from robot_core.params import ParameterError, Params
 from std_srvs.srv import Trigger, TriggerResponse
 
 from smart_brain import strategy as strategies
+from smart_brain.brain_config import BrainSettings, unknown
 from smart_brain.statemachine import GOAL_GUARD, clock
 from smart_brain.strategy import StrategyError
 
@@ -87,40 +71,23 @@ def wait_for_devices(strategy, timeout):
         time.sleep(0.2)
 
 
-def positive_param(name, default):
-    value = rospy.get_param(name, default)
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or value <= 0:
-        raise StrategyError('parameter %s = %r: must be a number > 0' % (rospy.resolve_name(name), value))
-    return float(value)
-
-
-def choice_param(name, default, allowed):
-    value = rospy.get_param(name, default)
-    if value not in allowed:
-        raise StrategyError('parameter %s = %r: allowed values: %s'
-                            % (rospy.resolve_name(name), value, ', '.join(map(str, allowed))))
-    return value
-
-
 class Brain(object):
     def __init__(self):
-        if not rospy.has_param('~strategy'):
-            strategies.load_modules(rospy.get_param('~strategy_modules', []))
-            raise StrategyError('missing required parameter %s; allowed values: %s'
-                                % (rospy.resolve_name('~strategy'), ', '.join(strategies.available())))
-        strategies.load_modules(rospy.get_param('~strategy_modules', []))
-        self.rate_hz = positive_param('~rate', 10.0)
-        self.device_timeout = positive_param('~device_timeout', 10.0)
-        self.strategy = strategies.create(str(rospy.get_param('~strategy')))
-        self.timed = choice_param('~match/enabled', self.strategy.timed, (True, False))
-        self.duration = positive_param('~match/duration', 90.0)
-        self.start_mode = choice_param('~match/start', 'cord', ('cord', 'immediate'))
-        self.start_topic = rospy.get_param('~match/start_topic', '/hal/hmi/input')
-        self.funny = choice_param('~match/funny_action', False, (True, False))
-        self.deactivate_service = rospy.get_param('~match/deactivate_service', '/effectors/deactivate')
-        self.saved_match = rospy.get_param('~match/resume', None) if self.timed else None
+        # Every parameter of the brain and its strategy, read at once (brain_config.py).
+        self.params = Params.from_server('~')
+        self.table = rospy.get_param('/table', {})
+        settings = BrainSettings(self.params, self.table)
+        for line in unknown(self.params):
+            rospy.logwarn('brain: %s', line)
+        self.strategy = settings.strategy
+        self.rate_hz, self.device_timeout = settings.rate_hz, settings.device_timeout
+        self.timed, self.duration, self.start_mode = settings.timed, settings.duration, settings.start_mode
+        self.start_topic, self.funny = settings.start_topic, settings.funny
+        self.deactivate_service, self.end_topic = settings.deactivate_service, settings.end_topic
+        self.saved_match = settings.saved_match
         if self.saved_match and self.saved_match.get('strategy', self.strategy.name) != self.strategy.name:
-            self.strategy = strategies.create(str(self.saved_match['strategy']))  # switched before the restart
+            # switched before the restart
+            self.strategy = strategies.create(str(self.saved_match['strategy']), self.params, self.table)
         rospy.loginfo('brain: strategy %s: %s', self.strategy.name, self.strategy.description)
         wait_for_devices(self.strategy, self.device_timeout)
 
@@ -141,14 +108,13 @@ class Brain(object):
         self._action_pub = rospy.Publisher('~action_status', ActionStatus, queue_size=1)
         from std_msgs.msg import String
         from smart_brain.readiness import Readiness
-        self.readiness = Readiness(rospy.get_param('~ready/nodes', ['/hcl', '/hal']),
-                                   rospy.get_param('~ready/optional', []))
+        self.readiness = Readiness(settings.ready_nodes, settings.ready_optional)
         self.ready, self.readiness_text = False, 'not ready: not checked yet'
-        self.ready_grace = positive_param('~ready/grace', 15.0)
-        self._display_pub = rospy.Publisher(rospy.get_param('~ready/display', '/hal/hmi/text'), String, queue_size=1)
+        self.ready_grace = settings.ready_grace
+        self._display_pub = rospy.Publisher(settings.ready_display, String, queue_size=1)
         from std_msgs.msg import Time
         self._Time = Time
-        self._match_end_pub = rospy.Publisher(rospy.get_param('~match/end_topic', '/effectors/match_end'), Time,
+        self._match_end_pub = rospy.Publisher(self.end_topic, Time,
                                               queue_size=1, latch=True)
         self._String = String
         self.timer = None
@@ -184,7 +150,7 @@ class Brain(object):
         from diagnostic_msgs.msg import DiagnosticArray
         from robot_core.robot_network import CommandGate, RobotNetwork
         self._match_end = None
-        rospy.Subscriber(rospy.get_param('~match/end_topic', '/effectors/match_end'), self._Time,
+        rospy.Subscriber(self.end_topic, self._Time,
                          lambda m: setattr(self, '_match_end', m.data), queue_size=1)
         try:
             network = RobotNetwork.from_param_server()
@@ -360,11 +326,11 @@ class Brain(object):
         if self.match_over:
             return False, 'the match is over'
         try:
-            new = strategies.create(name)
+            new = strategies.create(name, self.params, self.table)
             missing = missing_requirements(new)
             if missing:
                 raise StrategyError('strategy %s: HAL device(s)/topic(s) missing: %s' % (name, ', '.join(missing)))
-        except StrategyError as e:
+        except (StrategyError, ParameterError) as e:
             return False, str(e)
         with self._switch_lock:
             self._switch_to = new
@@ -465,7 +431,7 @@ def main():
         clock.use_ros_time()  # every timeout, hold-off and the match timer on /clock
     try:
         brain = Brain()
-    except StrategyError as e:
+    except (StrategyError, ParameterError) as e:
         rospy.logfatal('brain: %s', e)
         sys.exit(2)
     brain.run()

@@ -35,17 +35,23 @@ class MachineStrategy(Strategy):
     def build(self):
         raise NotImplementedError
 
+    def read_config(self, brain, table):
+        """The strategy's block (Strategy.read_config) and the triggers' blocks (~triggers) it runs with."""
+        Strategy.read_config(self, brain, table)
+        self.trigger_settings = trigger_kinds.settings(brain.block('triggers'), self.trigger_kinds)
+
     def param(self, key, default=None):
-        """~<strategy name>/<key> of the brain node (the strategy's own config block)."""
-        return rospy.get_param('~%s/%s' % (self.name, key), default)
+        """~<strategy name>/<key> of the brain node (the strategy's own config block), as read by
+        read_config's reader."""
+        return self.params(key, default)
 
     def initialize(self):
+        if not hasattr(self, 'trigger_settings'):  # created without the brain's reader: read the server's
+            from robot_core.params import Params
+            self.read_config(Params.from_server('~'), rospy.get_param('/table', {}))
         self.machine = self.build()
         self.machine.check_consistency()
-        config = rospy.get_param('~triggers', {})
-        if self.trigger_kinds is not None:
-            config = {k: v for k, v in config.items() if k in self.trigger_kinds}
-        self.triggers = trigger_kinds.build(config)
+        self.triggers = trigger_kinds.make(self.trigger_settings)
         restart_on = tuple(self.restart_on) if self.timed else ()
         if self.triggers or restart_on:
             self.root = Supervisor(self.machine, self.triggers, restart_on=restart_on, backoff=self.backoff,

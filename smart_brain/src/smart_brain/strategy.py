@@ -10,6 +10,11 @@ called from another thread at the match end or on a strategy switch and must mak
 execute() wind down promptly; `funny_action()` runs after the match end when configured;
 `required_topics` lists topics outside /hal the strategy needs (e.g. /mcl/pose).
 A strategy built as a state machine derives from machine_strategy.MachineStrategy.
+
+Its parameters (its block ~<name> of the brain node) are read in read_config(), before anything
+else and with no ROS, so a wrong value stops the brain at once and `check_config` and the
+parameter table (`make docs`) read a config file the same way; `parameters` says what each key
+means (a key read without a meaning there fails test_parameter_tables).
 """
 
 
@@ -28,6 +33,18 @@ class Strategy(object):
     required_topics = ()
     #: under the match timer: waits for the start signal, stopped at the match end
     timed = True
+    #: what each key of the strategy's block means, in a line ('tracker/gate' for a key of a
+    #: dictionary the strategy reads key by key): the meaning column of the brain's parameter table
+    parameters = {}
+
+    def read_config(self, brain, table):
+        """Read this strategy's parameters with no ROS: `brain` is the brain node's reader (a
+        robot_core.params.Params; the strategy's own block is brain.block(self.name)), `table`
+        the robot's table description (the /table dictionary). Called once, before initialize();
+        a bad value raises ParameterError or StrategyError naming it."""
+        self.params = brain.block(self.name)
+        for key, meaning in self.parameters.items():
+            self.params.describe(key, meaning)
 
     def initialize(self):
         """Set up subscriptions and publishers to HAL."""
@@ -65,13 +82,18 @@ def available():
     return sorted(_REGISTRY)
 
 
-def create(name):
-    """A new instance of the strategy called `name`; StrategyError naming the allowed values if unknown."""
+def create(name, brain=None, table=None):
+    """A new instance of the strategy called `name`; StrategyError naming the allowed values if unknown.
+    With `brain` (the brain node's Params) and `table` (the /table dictionary), its parameters
+    are read (read_config)."""
     _load_builtin()
     if name not in _REGISTRY:
         raise StrategyError("parameter ~strategy = '%s': unknown strategy; allowed values: %s"
                             % (name, ', '.join(sorted(_REGISTRY))))
-    return _REGISTRY[name]()
+    strategy = _REGISTRY[name]()
+    if brain is not None:
+        strategy.read_config(brain, table or {})
+    return strategy
 
 
 def load_modules(names):

@@ -7,8 +7,9 @@ the readers the nodes run at start, with no master (robot_core's check_component
 and the devices, robot_sim's check_sim_config for the world), each asked with --describe what it
 declared of every parameter it read: its type, whether it is required, its default and what is
 allowed, what it means: Params::describe beside the read). One table per board type
-(hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md) and the simulated world
-(robot_sim/PARAMETERS.md); the parameters every type reads come first, once.
+(hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md), the simulated world
+(robot_sim/PARAMETERS.md) and the brain, its strategies and triggers (smart_brain/PARAMETERS.md,
+smart_brain's check_brain_config); the parameters every board or device type reads come first, once.
 With --check nothing is written: exit 1 and the files that differ from what the code declares
 (the test that keeps the committed tables in sync)."""
 import argparse
@@ -29,6 +30,7 @@ SOURCES = (
     ('hcl_drivers', 'robot_core', 'check_components', ['hcl', 'hcl_drivers', 'board', '--describe'], 'board'),
     ('hal_nodes', 'robot_core', 'check_components', ['hal', 'hal_nodes', 'device', '--describe'], 'device'),
     ('robot_sim', 'robot_sim', 'check_sim_config', ['--describe'], 'world'),
+    ('smart_brain', 'smart_brain', 'check_brain_config', ['--describe'], 'brain'),
 )
 Declaration = collections.namedtuple('Declaration', 'type required default rule meaning')
 
@@ -106,7 +108,9 @@ def table(rows):
 def document(package, kind, components):
     """The text of PACKAGE/PARAMETERS.md."""
     what = {'board': 'board type (the `type:` of an `hcl:` block)', 'device': 'device type (the `type:` of a `hal:` block)',
-            'world': 'the simulated world, `sim/world` of a robot\'s sim overlay'}[kind]
+            'world': 'the simulated world, `sim/world` of a robot\'s sim overlay',
+            'brain': 'the brain node\'s own values (`brain:` of a robot\'s config), each strategy\'s block '
+                     '(`brain/<strategy>`) and each trigger\'s (`brain/triggers/<kind>`)'}[kind]
     lines = ['# %s parameters' % package, '',
              'Written by `make docs` (`scripts/parameter_tables.py`) from the parameter readers themselves: every',
              'shipped robot\'s config goes through the reader each node runs at start, which declares what it',
@@ -116,14 +120,14 @@ def document(package, kind, components):
              'dictionary in the list `x`.', '']
     types = sorted(components)
     common = {}
-    if kind != 'world' and len(types) > 1:
+    if kind in ('board', 'device') and len(types) > 1:
         shared = set.intersection(*(set(components[t]) for t in types))
         common = {n: components[types[0]][n] for n in shared
                   if all(components[t][n].type == components[types[0]][n].type for t in types)}
         lines += ['## Every %s' % kind, ''] + table(common) + ['']
     for t in types:
         own = {n: d for n, d in components[t].items() if n not in common}
-        title = 'sim/world' if kind == 'world' else t
+        title = {'world': 'sim/world', 'brain': 'brain' if t == 'brain' else 'brain/' + t}.get(kind, t)
         lines += ['## %s' % title, ''] + (table(own) if own else
                                            ['Only the parameters every %s reads.' % kind]) + ['']
     return '\n'.join(lines).rstrip() + '\n'

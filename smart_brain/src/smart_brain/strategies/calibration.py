@@ -9,6 +9,8 @@ the borders by the robot's radius), rounds (default 1), exec_timeout per leg [s]
 """
 import math
 
+from robot_core.params import REQUIRED
+
 from smart_brain.machine_strategy import MachineStrategy
 from smart_brain.steps import build_sequence
 from smart_brain.strategy import StrategyError, register
@@ -34,13 +36,22 @@ class CalibrationStrategy(MachineStrategy):
     description = "drive UMBmark's square both ways, stopping at each corner: the run make calibrate fits"
     required_devices = ('driver',)
 
-    def build(self):
-        square = self.param('square', None)
-        if not (isinstance(square, (list, tuple)) and len(square) == 3 and float(square[2]) > 0):
+    parameters = {
+        'square': '[m] the square: its first corner and its side',
+        'rounds': 'times round the square each way',
+        'exec_timeout': '[s] longest drive to one corner',
+    }
+
+    def read_config(self, brain, table):
+        MachineStrategy.read_config(self, brain, table)
+        square = self.params.value('square', REQUIRED, list, rule='[x0, y0, side], side > 0')
+        if not (len(square) == 3 and float(square[2]) > 0):
             raise StrategyError('parameter ~calibration/square = %r: give [x0, y0, side] in metres (side > 0)' % (square,))
-        rounds = int(self.param('rounds', 1))
-        if rounds < 1:
-            raise StrategyError('parameter ~calibration/rounds = %r: at least 1' % rounds)
-        steps = square_steps(float(square[0]), float(square[1]), float(square[2]), rounds,
-                             float(self.param('exec_timeout', 15.0)))
+        self.square = [float(v) for v in square]
+        self.rounds = self.params.value('rounds', 1, int, rule='>= 1', check=lambda v: '' if v >= 1 else 'at least 1')
+        self.exec_timeout = self.params.positive('exec_timeout', 15.0)
+
+    def build(self):
+        x0, y0, side = self.square
+        steps = square_steps(x0, y0, side, self.rounds, self.exec_timeout)
         return build_sequence(steps, '~calibration/square', default_attempts=1)

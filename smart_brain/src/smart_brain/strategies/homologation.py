@@ -16,6 +16,15 @@ class HomologationStrategy(MachineStrategy):
     description = 'leave the start zone, score one point with the highest certainty, avoid the opponent'
     required_devices = ('driver',)
 
+    parameters = {
+        'steps': 'the route: [{action: NAME, ..its arguments, attempts, label, on_abort}, ..] (smart_brain/actions)',
+        'attempts': 'tries of each step whose driver goal aborts (a step may set its own)',
+    }
+
+    def read_config(self, brain, table):
+        MachineStrategy.read_config(self, brain, table)
+        self.steps = self.params('steps', [])
+        self.attempts = int(self.params('attempts', 2))
+
     def build(self):
-        return build_sequence(self.param('steps', []), '~homologation/steps',
-                              default_attempts=int(self.param('attempts', 2)))
+        return build_sequence(self.steps, '~homologation/steps', default_attempts=self.attempts)

@@ -61,31 +61,29 @@ class JoystickStrategy(Strategy):
     description = 'drive by hand with the gamepad; buttons call effector callbacks (config)'
     required_devices = ('joystick',)
 
-    def _param(self, key, default, kind=float):
-        value = rospy.get_param('~joystick/%s' % key, default)
-        try:
-            return kind(value)
-        except (TypeError, ValueError):
-            raise StrategyError('parameter %s = %r: must be a %s' % (rospy.resolve_name('~joystick/' + key), value,
-                                                                   kind.__name__))
+    def read_config(self, brain, table):
+        Strategy.read_config(self, brain, table)
+        p = self.params
+        self.linear_axis = p.value('linear_axis', 'left_y', str, meaning="the stick axis (HAL's axis name) for speed")
+        self.angular_axis = p.value('angular_axis', 'left_x', str, meaning='the stick axis for turning')
+        self.max_linear = p.value('max_linear', 0.4, float, meaning='[m/s] speed at full stick')
+        self.max_angular = p.value('max_angular', 2.0, float, meaning='[rad/s] turn rate at full stick')
+        self.deadman = p.value('deadman', '', str, meaning="a button held while driving ('': none)")
+        self.max_age = p.value('max_age', 0.3, float, meaning='[s] an older pad state stops the robot')
+        self.state_topic = p.value('state_topic', '/hal/joystick/state', str, meaning="the pad's JoystickState topic")
+        self.events_topic = p.value('events_topic', '/hal/joystick/events', str,
+                                    meaning="the pad's JoystickEvent topic (button presses)")
+        buttons = p.value('buttons', {}, dict, meaning='button name: callback (%s)' % ', '.join(sorted(CALLBACKS)))
+        self.bindings = {}
+        for button, callback in buttons.items():
+            if callback not in CALLBACKS:
+                raise StrategyError("parameter %s/buttons/%s = '%s': allowed values: %s"
+                                    % (p.ns, button, callback, ', '.join(sorted(CALLBACKS))))
+            self.bindings[button] = CALLBACKS[callback]
 
     def initialize(self):
         from geometry_msgs.msg import Twist
         from hal_nodes.msg import JoystickEvent, JoystickState
-        self.linear_axis = self._param('linear_axis', 'left_y', str)
-        self.angular_axis = self._param('angular_axis', 'left_x', str)
-        self.max_linear = self._param('max_linear', 0.4)
-        self.max_angular = self._param('max_angular', 2.0)
-        self.deadman = self._param('deadman', '', str)
-        self.max_age = self._param('max_age', 0.3)
-        buttons = rospy.get_param('~joystick/buttons', {})
-        self.bindings = {}
-        for button, callback in buttons.items():
-            if callback not in CALLBACKS:
-                raise StrategyError("parameter %s = '%s': allowed values: %s"
-                                    % (rospy.resolve_name('~joystick/buttons/' + button), callback,
-                                       ', '.join(sorted(CALLBACKS))))
-            self.bindings[button] = CALLBACKS[callback]
         self.slave = BrainSlave()
         self._lock = threading.Lock()
         self._last_state = None   # when the last usable state arrived (the brain's clock)
@@ -95,10 +93,8 @@ class JoystickStrategy(Strategy):
         self._Twist = Twist
         self._pub = rospy.Publisher(CMD_VEL, Twist, queue_size=1)
         self._subs = [
-            rospy.Subscriber(self._param('state_topic', '/hal/joystick/state', str), JoystickState, self._on_state,
-                             queue_size=1),
-            rospy.Subscriber(self._param('events_topic', '/hal/joystick/events', str), JoystickEvent, self._on_event,
-                             queue_size=20),
+            rospy.Subscriber(self.state_topic, JoystickState, self._on_state, queue_size=1),
+            rospy.Subscriber(self.events_topic, JoystickEvent, self._on_event, queue_size=20),
         ]
 
     def publish(self, linear, angular):

@@ -15,15 +15,20 @@ class MatchStrategy(Strategy):
     def __init__(self):
         self._impl = None
 
+    def read_config(self, brain, table):
+        """~match_variant, then the variant's own parameters."""
+        from smart_brain import strategy as strategies
+        variant = str(brain.value('match_variant', '', str, allowed=sorted(VARIANTS), meaning='the match strategy: %s'
+                                  % ', '.join('%s (%s)' % (k, v) for k, v in sorted(VARIANTS.items()))))
+        if variant not in VARIANTS:
+            raise StrategyError("parameter %s = '%s': allowed values: %s"
+                                % (brain.qualified('match_variant'), variant, ', '.join(sorted(VARIANTS))))
+        self._impl = strategies.create(VARIANTS[variant], brain, table)
+
     @property
     def impl(self):
         if self._impl is None:
-            from smart_brain import strategy as strategies
-            variant = str(rospy.get_param('~match_variant', ''))
-            if variant not in VARIANTS:
-                raise StrategyError("parameter %s = '%s': allowed values: %s"
-                                    % (rospy.resolve_name('~match_variant'), variant, ', '.join(sorted(VARIANTS))))
-            self._impl = strategies.create(VARIANTS[variant])
+            raise StrategyError('strategy match: its parameters were not read (read_config)')
         return self._impl
 
     @property

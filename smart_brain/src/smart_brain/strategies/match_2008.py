@@ -16,9 +16,7 @@ roller backwards `unload_time`. It plays until the match ends. Balls seen closer
 `border_margin` to a border are left: the harvester cannot take one lying against the border
 without the robot pushing the border.
 
-Config: ~match2008/{ball_kinds, max_balls, basket, search, border_margin, harvester_topic,
-harvester_speed, unload_speed, unload_time, held_topic, vision_topic, harvest_time, tracker: {...},
-blocked: {...}, cost: {...}} (tracker, blocked and cost as in match_2009).
+Config: ~match2008/..., each key in `parameters` below (smart_brain/PARAMETERS.md).
 """
 import logging
 import math
@@ -45,8 +43,35 @@ class Match2008Strategy(MachineStrategy):
     required_devices = ('driver',)
     required_topics = ('/mcl/pose',)
     restart_on = ('aborted', 'succeeded')
+    parameters = {
+        'ball_kinds': 'the vision kinds of the balls it harvests',
+        'max_balls': 'balls on one harvest path at most',
+        'basket': 'where it delivers: [x, y, theta] [m, rad]',
+        'search': 'the path it drives to see the table when no ball is known: [[x, y], ..] [m]',
+        'harvester_speed': "the roller's command while harvesting",
+        'unload_speed': "the roller's command while delivering (negative: backwards)",
+        'unload_time': '[s] how long the roller unloads at the basket',
+        'harvest_time': '[s] per ball on a path: slowing, swallowing (the task cost\'s handling time)',
+        'border_margin': '[m] a ball seen nearer a border than this is left',
+        'tracker': 'where the balls are (play/element_tracker.py): {gate [m], forget_after [s], '
+                   'view [near, far, half-width] [m]}',
+        'blocked': 'spots where a goal ended BLOCKED (play/blocked_spots.py): {radius [m], memory [s], distance [m]}',
+        'cost': 'the task cost\'s weights (play/task_cost.py DEFAULTS: travel_weight, contested_weight, '
+                'points_weight, speed, reserve, contested_radius, contested_memory, their_half)',
+        'harvester_topic': "the roller's std_msgs/Float64 command topic ('': no roller)",
+        'held_topic': "the throat sensor's count of held balls, std_msgs/Int32 ('': none)",
+        'vision_topic': 'the camera\'s elements (hal_nodes/VisionElements)',
+    }
 
     # ---------------------------------------------------------------- configuration
+    def read_config(self, brain, table):
+        MachineStrategy.read_config(self, brain, table)
+        self.configure(self.params, (float(table.get('length', 3.0)), float(table.get('width', 2.1))),
+                       table.get('elements', []), table.get('score_zones', []))
+        self.harvester_topic = self.params('harvester_topic', '')
+        self.vision_topic = self.params('vision_topic', '/hal/vision/elements')
+        self.held_topic = self.params('held_topic', '/hal/harvester/held')
+
     def configure(self, param, table, elements, score_zones, our_colour=None):
         """Everything but ROS: `param(key, default)` reads the strategy's block; `table` (length,
         width); `elements` the table's start elements (dicts: kind, at); `score_zones` the
@@ -106,14 +131,12 @@ class Match2008Strategy(MachineStrategy):
         from smart_brain.msg import MatchStatus
         from std_msgs.msg import Float64, Int32
         from smart_brain.world_view import WorldView
-        topic = self.param('harvester_topic', '')
+        topic = self.harvester_topic
         self.harvester = rospy.Publisher(topic, Float64, queue_size=1, latch=True) if topic else None
-        self.world = WorldView(self.param('vision_topic', '/hal/vision/elements'), border_margin=self.border_margin,
-                               on_elements=self._seen)
+        self.world = WorldView(self.vision_topic, border_margin=self.border_margin, on_elements=self._seen)
         self._subs = [rospy.Subscriber('/brain/match_status', MatchStatus, self._on_status, queue_size=1)]
-        held_topic = self.param('held_topic', '/hal/harvester/held')
-        if held_topic:
-            self._subs.append(rospy.Subscriber(held_topic, Int32, self._on_held, queue_size=1))
+        if self.held_topic:
+            self._subs.append(rospy.Subscriber(self.held_topic, Int32, self._on_held, queue_size=1))
 
     def _on_status(self, msg):
         self.time_left = msg.remaining if msg.state == 'running' else None
@@ -131,10 +154,6 @@ class Match2008Strategy(MachineStrategy):
 
     # ---------------------------------------------------------------- the machine
     def build(self):
-        import rospy
-        table = (float(rospy.get_param('/table/length', 3.0)), float(rospy.get_param('/table/width', 2.1)))
-        self.configure(self.param, table, rospy.get_param('/table/elements', []),
-                       rospy.get_param('/table/score_zones', []))
         self._ros()
         self.harvest_state = follow_path(points_key='path_points', exec_timeout=25.0)
         self.deliver_state = goto(pose_key='basket', exec_timeout=20.0)

@@ -15,10 +15,7 @@ Take: stop `approach` before the column, facing it; open, creep in, close, lift 
 Build: drive to a build spot (the free one of `build_spots` nearest, each [x, y, theta, points]),
 lift to the floor's height, open, back off. It plays until the match ends.
 
-Config: ~match2009/{column_kind, columns, build_spots, build_heights, carry_height, approach, creep,
-max_carry, vision_topic, look_from, take_time, build_time, tracker: {gate, forget_after, view},
-blocked: {radius, memory, distance}, cost: {travel_weight, contested_weight, points_weight, speed,
-reserve, contested_radius, contested_memory, their_half}}.
+Config: ~match2009/..., each key in `parameters` below (smart_brain/PARAMETERS.md).
 """
 import logging
 import math
@@ -46,8 +43,33 @@ class Match2009Strategy(MachineStrategy):
     required_devices = ('driver', 'hand')
     required_topics = ('/mcl/pose',)
     restart_on = ('aborted', 'succeeded')
+    parameters = {
+        'column_kind': 'the vision kind of the columns the hand takes',
+        'columns': 'the columns\' start positions, [[x, y], ..] [m]',
+        'build_spots': 'where it builds: [[x, y, theta, points], ..] [m, rad]',
+        'build_heights': '[m] the hand\'s height for each floor of a temple',
+        'carry_height': '[m] the hand\'s height while carrying',
+        'approach': '[m] it stops this far before a column, facing it',
+        'creep': '[m] then drives this far in with the hand open',
+        'max_carry': 'columns carried at once',
+        'take_time': '[s] open, creep, close, lift (the task cost\'s handling time)',
+        'build_time': '[s] lift, open, back off (the task cost\'s handling time)',
+        'look_from': 'lookouts it drives to when nothing is left to take: [[x, y, theta], ..]',
+        'tracker': 'where the columns are (play/element_tracker.py): {gate [m], forget_after [s], '
+                   'view [near, far, half-width] [m]}',
+        'blocked': 'spots where a goal ended BLOCKED (play/blocked_spots.py): {radius [m], memory [s], distance [m]}',
+        'cost': 'the task cost\'s weights (play/task_cost.py DEFAULTS: travel_weight, contested_weight, '
+                'points_weight, speed, reserve, contested_radius, contested_memory, their_half)',
+        'vision_topic': 'the camera\'s elements (hal_nodes/VisionElements)',
+    }
 
     # ---------------------------------------------------------------- configuration
+    def read_config(self, brain, table):
+        MachineStrategy.read_config(self, brain, table)
+        self.configure(self.params, (float(table.get('length', 3.0)), float(table.get('width', 2.1))),
+                       table.get('score_zones', []))
+        self.vision_topic = self.params('vision_topic', '/hal/vision/elements')
+
     def _numbers(self, key, value, size):
         try:
             value = [float(v) for v in value]
@@ -100,7 +122,7 @@ class Match2009Strategy(MachineStrategy):
         import rospy
         from smart_brain.msg import MatchStatus
         from smart_brain.world_view import WorldView
-        self.world = WorldView(self.param('vision_topic', '/hal/vision/elements'), on_elements=self._seen)
+        self.world = WorldView(self.vision_topic, on_elements=self._seen)
         self._status_sub = rospy.Subscriber('/brain/match_status', MatchStatus, self._on_status, queue_size=1)
 
     def _on_status(self, msg):
@@ -114,9 +136,6 @@ class Match2009Strategy(MachineStrategy):
 
     # ---------------------------------------------------------------- the machine
     def build(self):
-        import rospy
-        table = (float(rospy.get_param('/table/length', 3.0)), float(rospy.get_param('/table/width', 2.1)))
-        self.configure(self.param, table, rospy.get_param('/table/score_zones', []))
         self._ros()
         self.approach_state = goto(pose_key='approach', exec_timeout=15.0)
         self.build_state = goto(pose_key='build_pose', exec_timeout=20.0)

@@ -4,12 +4,15 @@ per module, each made from its block under the brain's ~triggers parameter:
     triggers:
       opponent_ahead: {enabled: true, rangers: [front], distance: 0.3, ...}
 
-A module defines KIND and make(config) -> statemachine.Trigger with its ROS inputs and
-its handler state. build(params) makes every enabled one.
+A module defines KIND, read(cfg) -> its settings (every parameter read through `cfg`, a Config;
+no ROS) and make(settings) -> statemachine.Trigger with its ROS inputs and its handler state.
+build(blocks) makes every enabled one; settings(blocks) reads them all without making any (the
+config check and the brain's parameter table).
 """
 import importlib
 import pkgutil
 
+from robot_core.params import Params
 from smart_brain.strategy import StrategyError
 
 _KINDS = {}
@@ -20,7 +23,7 @@ def _load():
         for module in pkgutil.iter_modules(__path__):
             mod = importlib.import_module(__name__ + '.' + module.name)
             if hasattr(mod, 'KIND'):
-                _KINDS[mod.KIND] = mod.make
+                _KINDS[mod.KIND] = mod
     return _KINDS
 
 
@@ -28,43 +31,55 @@ def available():
     return sorted(_load())
 
 
-def build(params):
-    """Triggers for every enabled block of `params` ({kind: {enabled: bool, ...}})."""
+def settings(triggers, only=None):
+    """[(kind, enabled, settings)] of every block under `triggers` (the Params of ~triggers:
+    {kind: {enabled: bool, ...}}; `only`: the kinds to read, None: all), each read and checked
+    (unknown keys refused)."""
     kinds = _load()
     out = []
-    for kind, config in sorted((params or {}).items()):
+    for kind in sorted(triggers.keys()):
+        if only is not None and kind not in only:
+            triggers.unused(kind)
+            continue
         if kind not in kinds:
             raise StrategyError("parameter ~triggers/%s: unknown trigger; allowed values: %s"
                                 % (kind, ', '.join(sorted(kinds))))
-        config = dict(config or {})
-        if config.pop('enabled', True):
-            out.append(kinds[kind](config))
+        cfg = Config(kind, triggers)
+        enabled = cfg.get('enabled', True, bool, meaning='false: the trigger is not watched (its settings are kept)')
+        read = kinds[kind].read(cfg)
+        cfg.done()
+        out.append((kind, enabled, read))
     return out
 
 
+def make(read):
+    """Triggers for every enabled one of settings()' list."""
+    return [_load()[kind].make(values) for kind, enabled, values in read if enabled]
+
+
+def build(blocks):
+    """Triggers for every enabled block of `blocks` ({kind: {enabled: bool, ...}})."""
+    return make(settings(Params(blocks or {}, '~triggers')))
+
+
 class Config(object):
-    """Reads a trigger's block, naming the parameter in every error."""
+    """Reads a trigger's block (~triggers/<kind>) through the brain's parameter reader, naming
+    the parameter in every error."""
 
-    def __init__(self, kind, values):
+    def __init__(self, kind, triggers):
         self.kind = kind
-        self._values = dict(values)
+        self.params = triggers.block(kind)
 
-    def get(self, key, default, kind=float, allowed=None):
-        value = self._values.pop(key, default)
-        try:
-            value = kind(value) if kind not in (list,) else list(value)
-        except (TypeError, ValueError):
-            raise StrategyError('parameter ~triggers/%s/%s = %r: must be a %s' % (self.kind, key, value, kind.__name__))
-        if allowed is not None and value not in allowed:
-            raise StrategyError('parameter ~triggers/%s/%s = %r: allowed values: %s'
-                                % (self.kind, key, value, ', '.join(map(str, allowed))))
-        return value
+    def get(self, key, default, kind=float, allowed=None, meaning=''):
+        return self.params.value(key, default, kind, allowed=allowed, meaning=meaning)
 
     def done(self):
-        if self._values:
-            raise StrategyError('parameter ~triggers/%s: unknown key(s) %s' % (self.kind, ', '.join(sorted(self._values))))
+        unknown = [line.split(' = ')[0].rsplit('/', 1)[1] for line in self.params.unasked()]
+        if unknown:
+            raise StrategyError('parameter ~triggers/%s: unknown key(s) %s' % (self.kind, ', '.join(sorted(unknown))))
 
 
-def decision_param(cfg, key='then'):
+def decision_param(cfg, key='then', meaning='what the handler decides when its wait runs out: resume, '
+                   'restart, aborted or a state label'):
     """The handler's decision when its wait runs out: resume | restart | aborted | a state label."""
-    return cfg.get(key, 'resume', str)
+    return cfg.get(key, 'resume', str, meaning=meaning)

@@ -3,13 +3,11 @@ Handler: stop, then (spin: true) turn slowly on the spot so the beacons and the 
 are seen from every side, while watching /mcl/quality; resume once it is trusted again,
 else the configured decision after `max_wait`.
 
-Config (~triggers/localization_lost): min_probability (default 0.5, the driver's ~min_probability:
-the robot configs share one value, the anchor lost_probability), debounce (default 0.5 s), holdoff,
-spin, max_wait [s], then.
+Config: ~triggers/localization_lost, each key described where read() reads it (smart_brain/PARAMETERS.md).
 """
 from smart_brain.actions.stop import StopState
 from smart_brain.statemachine import Concurrence, MonitorState, StateMachine, Trigger
-from smart_brain.triggers import Config, decision_param
+from smart_brain.triggers import decision_param
 
 KIND = 'localization_lost'
 
@@ -35,18 +33,23 @@ class QualityWatch(object):
         return self._bad
 
 
-def make(values):
+def read(cfg):
+    return dict(
+        min_probability=cfg.get('min_probability', 0.5, meaning="below this /mcl/quality probability the robot is lost "
+                                "(the driver's ~min_probability)"),
+        debounce=cfg.get('debounce', 0.5, meaning='[s] lost this long before it fires'),
+        holdoff=cfg.get('holdoff', 2.0, meaning='[s] after its handler ends, it does not fire again for this long'),
+        spin=cfg.get('spin', True, bool, meaning='turn slowly on the spot while waiting, so every beacon is seen'),
+        max_wait=cfg.get('max_wait', 8.0, meaning='[s] longest wait for the localization to be trusted again'),
+        then=decision_param(cfg))
+
+
+def make(s):
     import math
     from hal_nodes.msg import LocalizationQuality
     from smart_brain.actions.rotate_by import rotate_by
-    cfg = Config(KIND, values)
-    min_probability = cfg.get('min_probability', 0.5)
-    debounce = cfg.get('debounce', 0.5)
-    holdoff = cfg.get('holdoff', 2.0)
-    spin = cfg.get('spin', True, bool)
-    max_wait = cfg.get('max_wait', 8.0)
-    then = decision_param(cfg)
-    cfg.done()
+    min_probability, debounce, holdoff, spin, max_wait, then = (
+        s['min_probability'], s['debounce'], s['holdoff'], s['spin'], s['max_wait'], s['then'])
     trig = Trigger(KIND, None, None, debounce=debounce, holdoff=holdoff, priority=1)
     watch = QualityWatch(min_probability, trig.notify)
     trig.condition = watch

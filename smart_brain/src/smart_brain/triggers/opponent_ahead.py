@@ -1,11 +1,10 @@
 """opponent_ahead: while the robot drives, a ranger in the driving direction sees something nearer
 than `distance`.
 
-Config (~triggers/opponent_ahead): rangers (names under /hal/rangers/ looking forwards),
-rear_rangers (used while driving backwards, from /odom), distance [m], max_age [s] of a
-reading, debounce, holdoff [s], clear_time, max_wait [s], then (decision after max_wait),
-border_tolerance [m] (set: an echo the table border explains from the robot's pose is not the
-opponent, border_echo.py; table size from /table/length, /table/width).
+Config: ~triggers/opponent_ahead, each key described where read() reads it (smart_brain/PARAMETERS.md).
+An echo the table border explains (border_tolerance set; border_echo.py; table size from
+/table/length, /table/width) is not the opponent.
+
 Fires -> zero wheel speed at once, the running state is preempted (its driver goal
 cancelled), the handler waits for the way to clear, then the state resumes.
 It fires only while the robot moves (/odom, faster than MOVING m/s): standing or turning in place
@@ -17,7 +16,7 @@ import threading
 
 from smart_brain.statemachine import clock
 from smart_brain.statemachine import Trigger
-from smart_brain.triggers import Config, decision_param
+from smart_brain.triggers import decision_param
 from smart_brain.triggers.wait_clear import WaitClear
 from smart_brain.actions.stop import publish_zero
 
@@ -71,18 +70,25 @@ class RangerWatch(object):
                        for n in names)
 
 
-def make(values):
-    cfg = Config(KIND, values)
-    front = cfg.get('rangers', [], list)
-    rear = cfg.get('rear_rangers', [], list)
-    distance = cfg.get('distance', 0.3)
-    max_age = cfg.get('max_age', 0.5)
-    debounce = cfg.get('debounce', 0.0)
-    holdoff = cfg.get('holdoff', 1.0)
-    border_tolerance = cfg.get('border_tolerance', -1.0)
-    handler_args = dict(clear_time=cfg.get('clear_time', 0.5), max_wait=cfg.get('max_wait', 3.0),
-                        then=decision_param(cfg))
-    cfg.done()
+def read(cfg):
+    return dict(
+        rangers=cfg.get('rangers', [], list, meaning='names under /hal/rangers/ looking forwards'),
+        rear_rangers=cfg.get('rear_rangers', [], list, meaning='the rangers watched while driving backwards'),
+        distance=cfg.get('distance', 0.3, meaning='[m] an echo nearer than this in the driving direction fires it'),
+        max_age=cfg.get('max_age', 0.5, meaning='[s] an older reading no longer counts'),
+        debounce=cfg.get('debounce', 0.0, meaning='[s] seen this long before it fires'),
+        holdoff=cfg.get('holdoff', 1.0, meaning='[s] after its handler ends, it does not fire again for this long'),
+        border_tolerance=cfg.get('border_tolerance', -1.0, meaning='[m] >= 0: an echo the table border explains '
+                                 'from the pose, within this, is not the opponent (< 0: off)'),
+        clear_time=cfg.get('clear_time', 0.5, meaning='[s] the way is clear this long before the state resumes'),
+        max_wait=cfg.get('max_wait', 3.0, meaning='[s] longest wait for the way to clear'),
+        then=decision_param(cfg))
+
+
+def make(s):
+    front, rear, distance, max_age, debounce, holdoff, border_tolerance = (
+        s['rangers'], s['rear_rangers'], s['distance'], s['max_age'], s['debounce'], s['holdoff'], s['border_tolerance'])
+    handler_args = dict(clear_time=s['clear_time'], max_wait=s['max_wait'], then=s['then'])
     trig = Trigger(KIND, None, None, debounce=debounce, holdoff=holdoff, priority=2, on_fire=publish_zero)
     border = None
     if border_tolerance >= 0.0:

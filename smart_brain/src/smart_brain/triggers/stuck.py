@@ -4,14 +4,13 @@ backwards), then the decision `after_back_off` (default resume: the interrupted 
 aborted: it ends aborted, so the strategy chooses again instead of driving back into the same
 contact), or `then` if backing off failed.
 
-Config (~triggers/stuck): contacts (names in /hal/bumpers/contacts), back_off [m],
-debounce (default 0.2 s: a brush against a border is not stuck), holdoff, after_back_off, then.
+Config: ~triggers/stuck, each key described where read() reads it (smart_brain/PARAMETERS.md).
 """
 import threading
 
 from smart_brain.actions.stop import StopState
 from smart_brain.statemachine import StateMachine, Trigger
-from smart_brain.triggers import Config, decision_param
+from smart_brain.triggers import decision_param
 
 KIND = 'stuck'
 
@@ -37,16 +36,21 @@ class ContactWatch(object):
         return self._closed
 
 
-def make(values):
+def read(cfg):
+    return dict(
+        contacts=cfg.get('contacts', [], list, meaning='names in /hal/bumpers/contacts that mean stuck (empty: any)'),
+        back_off=cfg.get('back_off', 0.1, meaning='[m] how far it backs off, by odometry'),
+        debounce=cfg.get('debounce', 0.2, meaning='[s] closed this long before it fires (a brush is not stuck)'),
+        holdoff=cfg.get('holdoff', 1.0, meaning='[s] after its handler ends, it does not fire again for this long'),
+        then=decision_param(cfg, meaning='the decision when backing off failed'),
+        after=decision_param(cfg, 'after_back_off', meaning='the decision after backing off: resume (the interrupted '
+                             'state goes on), aborted (the strategy chooses again), restart or a state label'))
+
+
+def make(s):
     from smart_brain.actions.go_straight import go_straight
-    cfg = Config(KIND, values)
-    contacts = cfg.get('contacts', [], list)
-    back_off = cfg.get('back_off', 0.1)
-    debounce = cfg.get('debounce', 0.2)
-    holdoff = cfg.get('holdoff', 1.0)
-    then = decision_param(cfg)
-    after = decision_param(cfg, 'after_back_off')
-    cfg.done()
+    contacts, back_off, debounce, holdoff, then, after = (
+        s['contacts'], s['back_off'], s['debounce'], s['holdoff'], s['then'], s['after'])
     handler = StateMachine(outcomes=sorted({after, then, 'preempted'}))
     handler.add('STOP', StopState(), transitions={'succeeded': 'BACK_OFF'})
     handler.add('BACK_OFF', go_straight(back_off, backwards=True, exec_timeout=5.0),

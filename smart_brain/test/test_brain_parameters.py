@@ -1,0 +1,87 @@
+"""The brain's parameters read from the shipped configs as the brain reads them at start
+(smart_brain/brain_config.py), without ROS: every value known to a reader and described, a typo
+found at every level, a wrong value refused with one line naming it."""
+import copy
+import os
+import unittest
+
+import yaml
+from robot_core.params import ParameterError
+from smart_brain.brain_config import read_config, unknown
+from smart_brain.strategy import StrategyError
+
+CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'config')
+ROBOTS = ('eurobot2009', 'logion', 'skeleton')
+
+
+def config(robot):
+    with open(os.path.join(CONFIG, robot + '.yaml')) as f:
+        return yaml.safe_load(f)
+
+
+class BrainParametersTest(unittest.TestCase):
+    def test_the_shipped_configs_hold_no_unknown_key_and_every_read_is_described(self):
+        for robot in ROBOTS:
+            tree = config(robot)
+            params, settings = read_config(tree['brain'], tree.get('table', {}))
+            self.assertEqual(unknown(params), [], robot)
+            declared = params.declarations()
+            self.assertIn('rate', declared, robot)
+            for name, d in declared.items():
+                self.assertTrue(d.meaning, '%s: /brain/%s is read without a meaning' % (robot, name))
+                self.assertTrue(d.type, '%s: /brain/%s is described but never read' % (robot, name))
+
+    def test_every_strategy_block_present_is_read(self):
+        params, settings = read_config(config('eurobot2009')['brain'], config('eurobot2009')['table'])
+        names = {n.split('/')[0] for n in params.declarations()}
+        for block in ('match2009', 'calibration', 'homologation', 'joystick', 'triggers', 'match'):
+            self.assertIn(block, names)
+        self.assertEqual(settings.strategy.name, 'match')
+        self.assertEqual(settings.strategy.impl.name, 'match2009')
+
+    def test_a_typo_is_found_at_every_level(self):
+        tree = config('eurobot2009')
+        brain = copy.deepcopy(tree['brain'])
+        brain['rat'] = 10
+        brain['match']['duratoin'] = 90
+        brain['match2009']['aproach'] = 0.2
+        brain['calibration']['round'] = 2
+        params, _ = read_config(brain, tree['table'])
+        self.assertEqual(unknown(params), [
+            'parameter /brain/calibration/round = 2: no reader knows it',
+            'parameter /brain/match/duratoin = 90: no reader knows it',
+            'parameter /brain/match2009/aproach = 0.2: no reader knows it',
+            'parameter /brain/rat = 10: no reader knows it'])
+
+    def test_a_trigger_typo_or_a_wrong_value_stops_the_reading_naming_it(self):
+        tree = config('eurobot2009')
+        cases = [(('rate',), 0, ParameterError, 'parameter /brain/rate = 0: must be a number > 0'),
+                 (('match', 'start'), 'rope', ParameterError,
+                  "parameter /brain/match/start = 'rope': allowed values: cord, immediate"),
+                 (('triggers', 'opponent_ahead', 'distance'), 'far', ParameterError,
+                  "parameter /brain/triggers/opponent_ahead/distance = 'far': must be a number"),
+                 (('triggers', 'stuck', 'debounse'), 0.3, StrategyError,
+                  'parameter ~triggers/stuck: unknown key(s) debounse'),
+                 (('joystick', 'max_linear'), 'fast', ParameterError,
+                  "parameter /brain/joystick/max_linear = 'fast': must be a number"),
+                 (('match_variant',), '2010', ParameterError,
+                  "parameter /brain/match_variant = '2010': allowed values: 2008, 2009")]
+        for path, value, error, message in cases:
+            brain = copy.deepcopy(tree['brain'])
+            block = brain
+            for key in path[:-1]:
+                block = block[key]
+            block[path[-1]] = value
+            with self.assertRaises(error) as e:
+                read_config(brain, tree['table'])
+            self.assertEqual(str(e.exception), message, path)
+
+    def test_a_missing_strategy_names_the_allowed_ones(self):
+        with self.assertRaises(StrategyError) as e:
+            read_config({'rate': 10}, {})
+        self.assertIn('missing required parameter /brain/strategy; allowed values: ', str(e.exception))
+        self.assertIn('match2009', str(e.exception))
+
+
+if __name__ == '__main__':
+    unittest.main()
