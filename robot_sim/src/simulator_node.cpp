@@ -2,19 +2,8 @@
 // at ~real_time_factor, publishes /clock, ground truth (/sim/*), rviz markers, and hosts the
 // firmware emulators of every board (~firmware) on top of the world.
 //
-// Parameters (private, /sim/...):
-//   ~seed (int >= 0, default 1)               same seed + same timed commands = same trajectory
-//   ~real_time_factor (>= 0, default 1.0)     0: as fast as the machine goes (the factor that keeps
-//                                             the machine just short of saturation, machine_pace.h)
-//   ~paused (bool, default false)             start frozen at t = 0 (tests script, then resume)
-//   ~truth_rate (sim Hz, default 50)          /sim/ground_truth, /sim/opponent
-//   ~elements_rate, ~match_rate, ~marker_rate (sim Hz, default 10, 10, 5)
-//   ~clock_max_rate (wall Hz, default 1000)   /clock is published at most this often
-//   ~world  (the world, see config/eurobot2009.sim.yaml)   ~firmware (the emulators)
-//   ~faults (list of {kind, target, start, duration, magnitude}: faults scripted at start)
-//   ~firmware_enabled (bool, default true)    false: the world alone (world tests)
-//   ~realtime_priority (int 0..99, default 0) SCHED_FIFO priority of the emulators' and the
-//                                             simulated bus's threads (0: normal scheduling)
+// Parameters (private, /sim/...): its own (SimulatorSettings), ~world (the world, config.h) and
+// ~firmware (the emulators); the tables in robot_sim/PARAMETERS.md (make docs).
 // Names below are relative to the node's namespace (/ in the robot launch files), so several
 // simulators can run side by side in a test under different namespaces.
 // Topics: /clock, /sim/ground_truth + /sim/opponent (nav_msgs/Odometry), /sim/elements
@@ -55,6 +44,7 @@
 #include "robot_sim/world/fault_schedule.h"
 #include "robot_sim/world/ros_world_io.h"
 #include "robot_sim/world/sim_world.h"
+#include "robot_sim/world/simulator_settings.h"
 
 namespace robot_sim {
 
@@ -86,7 +76,7 @@ class Simulator {
     try {
       readParameters();
       config_ = loadWorldConfig(nh_, pnh_);
-      config_.seed = static_cast<unsigned>(seed_);
+      config_.seed = static_cast<unsigned>(settings_.seed);
       world_ = std::make_unique<SimWorld>(config_, config_.seed);
     } catch (const std::exception& e) {
       ROS_FATAL("%s", e.what());
@@ -115,11 +105,11 @@ class Simulator {
 
     // The emulators start after the world exists; none configured is fine (world-only tests).
     XmlRpc::XmlRpcValue fw;
-    if (firmware_enabled_ && pnh_.getParam("firmware", fw) && fw.getType() == XmlRpc::XmlRpcValue::TypeStruct && fw.size() > 0) {
+    if (settings_.firmware_enabled && pnh_.getParam("firmware", fw) && fw.getType() == XmlRpc::XmlRpcValue::TypeStruct && fw.size() > 0) {
       host_ = std::make_unique<FirmwareHost>(nh_, ros::NodeHandle(pnh_, "firmware"), world_.get());
       if (!host_->startFromParameters()) return false;
     } else {
-      ROS_INFO("simulator: no firmware emulators %s under %s", firmware_enabled_ ? "configured" : "(disabled)",
+      ROS_INFO("simulator: no firmware emulators %s under %s", settings_.firmware_enabled ? "configured" : "(disabled)",
                pnh_.resolveName("firmware").c_str());
     }
     try {
@@ -130,90 +120,34 @@ class Simulator {
     }
     running_ = true;
     thread_ = std::thread([this] { run(); });
-    ROS_INFO("simulator: seed %d, real-time factor %g%s, dt %g s, %zu game elements", seed_, rtf_.load(),
+    ROS_INFO("simulator: seed %d, real-time factor %g%s, dt %g s, %zu game elements", settings_.seed, rtf_.load(),
              paused_ ? " (paused)" : "", config_.dt, config_.table.elements.size());
     return true;
   }
 
  private:
   void readParameters() {
-    auto fail = [this](const std::string& name, const std::string& what) {
-      throw ConfigError("parameter " + pnh_.resolveName(name) + ": " + what);
-    };
-    auto number = [&](const std::string& name, double def) {
-      XmlRpc::XmlRpcValue v;
-      if (!pnh_.getParam(name, v)) return def;
-      if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<double>(static_cast<int>(v));
-      if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(v);
-      fail(name, "must be a number");
-      return def;
-    };
-    XmlRpc::XmlRpcValue seed;
-    if (pnh_.getParam("seed", seed)) {
-      if (seed.getType() != XmlRpc::XmlRpcValue::TypeInt || static_cast<int>(seed) < 0)
-        fail("seed", "must be an integer >= 0");
-      seed_ = static_cast<int>(seed);
-    }
-    const double rtf = number("real_time_factor", 1.0);
-    if (!validFactor(rtf)) fail("real_time_factor", kFactorRule);
-    rtf_ = rtf;
-    XmlRpc::XmlRpcValue paused;
-    if (pnh_.getParam("paused", paused)) {
-      if (paused.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail("paused", "must be true or false");
-      paused_ = static_cast<bool>(paused);
-    }
-    const std::pair<const char*, SimRate*> rates[] = {
-        {"truth_rate", &truth_rate_}, {"elements_rate", &elements_rate_}, {"match_rate", &match_rate_},
-        {"marker_rate", &marker_rate_}};
-    const double defaults[] = {50.0, 10.0, 10.0, 5.0};
-    for (int i = 0; i < 4; ++i) {
-      const double hz = number(rates[i].first, defaults[i]);
-      if (!(hz > 0.0) || hz > 2000.0) fail(rates[i].first, "must be in (0, 2000] Hz");
-      rates[i].second->period = 1.0 / hz;
-    }
-    clock_max_rate_ = number("clock_max_rate", 1000.0);
+    settings_ = SimulatorSettings::read(robot_core::Params::of(pnh_));
+    rtf_ = settings_.real_time_factor;
+    paused_ = settings_.paused;
+    truth_rate_.period = 1.0 / settings_.truth_rate;
+    elements_rate_.period = 1.0 / settings_.elements_rate;
+    match_rate_.period = 1.0 / settings_.match_rate;
+    marker_rate_.period = 1.0 / settings_.marker_rate;
     // The emulators (simulated boards) and the simulated bus under them answer like hardware:
     // in real-time threads at this priority (robot_core/realtime.h). The world's stepping thread
     // stays at normal priority: as fast as the machine goes, it would starve everything else.
-    const double priority = number("realtime_priority", 0.0);
-    if (priority != std::floor(priority) || priority < 0 || priority > 99)
-      fail("realtime_priority", "must be an integer 0..99 (0: normal scheduling)");
-    robot_core::setRealtimePriority(static_cast<int>(priority));
-    XmlRpc::XmlRpcValue fw_on;
-    if (pnh_.getParam("firmware_enabled", fw_on)) {
-      if (fw_on.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail("firmware_enabled", "must be true or false");
-      firmware_enabled_ = static_cast<bool>(fw_on);
-    }
-    if (!(clock_max_rate_ >= 10.0)) fail("clock_max_rate", "must be >= 10 Hz");
+    robot_core::setRealtimePriority(settings_.realtime_priority);
   }
 
+  // The scripted faults' kinds and targets, once the world and the emulators exist.
   void readScriptedFaults() {
-    XmlRpc::XmlRpcValue list;
-    if (!pnh_.getParam("faults", list)) return;
     const std::string ns = pnh_.resolveName("faults");
-    if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) throw ConfigError("parameter " + ns + ": must be a list");
-    for (int i = 0; i < list.size(); ++i) {
-      const std::string at = ns + "[" + std::to_string(i) + "]";
-      XmlRpc::XmlRpcValue& f = list[i];
-      if (f.getType() != XmlRpc::XmlRpcValue::TypeStruct || !f.hasMember("kind") ||
-          f["kind"].getType() != XmlRpc::XmlRpcValue::TypeString ||
-          (f.hasMember("target") && f["target"].getType() != XmlRpc::XmlRpcValue::TypeString))
-        throw ConfigError("parameter " + at + ": must be {kind, target, start, duration, magnitude}");
-      auto num = [&](const char* k) {
-        if (!f.hasMember(k)) return 0.0;
-        if (f[k].getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<double>(static_cast<int>(f[k]));
-        if (f[k].getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(f[k]);
-        throw ConfigError("parameter " + at + "/" + k + ": must be a number");
-      };
-      FaultEntry e;
-      e.kind = static_cast<std::string>(f["kind"]);
-      e.target = f.hasMember("target") ? static_cast<std::string>(f["target"]) : "";
-      e.start = num("start");
-      e.end = num("duration") > 0.0 ? e.start + num("duration") : 0.0;
-      e.magnitude = num("magnitude");
+    for (std::size_t i = 0; i < settings_.faults.size(); ++i) {
       std::string why;
-      if (!validFault(e, /*check_boards=*/true, &why)) throw ConfigError("parameter " + at + ": " + why);
-      faults_.add(e);
+      if (!validFault(settings_.faults[i], /*check_boards=*/true, &why))
+        throw ConfigError("parameter " + ns + "[" + std::to_string(i) + "]: " + why);
+      faults_.add(settings_.faults[i]);
     }
   }
 
@@ -282,7 +216,7 @@ class Simulator {
     double report_sim = anchor_sim;
     std::size_t last_unknown = 0;
     auto last_names_check = Clock::now();
-    const auto clock_gap = std::chrono::duration<double>(1.0 / clock_max_rate_);
+    const auto clock_gap = std::chrono::duration<double>(1.0 / settings_.clock_max_rate);
     MachinePace machine;
     RobotKeepingUp keeping_up;
     double rtf = rtf_;  // the requested factor this loop paces at (the service may change rtf_)
@@ -514,13 +448,11 @@ class Simulator {
     return true;
   }
 
-  static constexpr const char* kFactorRule = "must be >= 0 (0: as fast as the machine goes)";
-  static bool validFactor(double f) { return f >= 0.0 && std::isfinite(f); }
 
   bool onSetRealTimeFactor(SetRealTimeFactor::Request& req, SetRealTimeFactor::Response& res) {
-    if (!validFactor(req.real_time_factor)) {
+    if (!SimulatorSettings::validFactor(req.real_time_factor)) {
       res.ok = false;
-      res.message = std::string("real_time_factor ") + kFactorRule + ", got " + std::to_string(req.real_time_factor);
+      res.message = std::string("real_time_factor ") + SimulatorSettings::kFactorRule + ", got " + std::to_string(req.real_time_factor);
       return true;
     }
     const double before = rtf_.exchange(req.real_time_factor);
@@ -544,10 +476,8 @@ class Simulator {
   std::unique_ptr<SimWorld> world_;
   std::unique_ptr<FirmwareHost> host_;
   FaultSchedule faults_;
-  int seed_ = 1;
+  SimulatorSettings settings_;
   std::atomic<double> rtf_{1.0};  // requested: set at start and by ~set_real_time_factor
-  double clock_max_rate_ = 1000.0;
-  bool firmware_enabled_ = true;
   std::atomic<bool> paused_{false};
   std::atomic<bool> running_{false};
   SimRate truth_rate_, elements_rate_, match_rate_, marker_rate_;

@@ -64,6 +64,8 @@ class BrainParametersTest(unittest.TestCase):
                   'parameter ~triggers/stuck: unknown key(s) debounse'),
                  (('joystick', 'max_linear'), 'fast', ParameterError,
                   "parameter /brain/joystick/max_linear = 'fast': must be a number"),
+                 (('strategy_modules',), [3], ParameterError,
+                  'parameter /brain/strategy_modules = [3]: must be a list of Python module names'),
                  (('match_variant',), '2010', ParameterError,
                   "parameter /brain/match_variant = '2010': allowed values: 2008, 2009")]
         for path, value, error, message in cases:
@@ -75,6 +77,22 @@ class BrainParametersTest(unittest.TestCase):
             with self.assertRaises(error) as e:
                 read_config(brain, tree['table'])
             self.assertEqual(str(e.exception), message, path)
+
+    def test_a_strategy_given_by_the_caller_replaces_the_configs(self):
+        # check_config --strategy / make run STRATEGY=: the config's own is not an unknown key
+        tree = config('eurobot2009')
+        params, settings = read_config(tree['brain'], tree['table'], 'idle')
+        self.assertEqual(settings.strategy.name, 'idle')
+        self.assertEqual(unknown(params), [])
+        del tree['brain']['strategy']
+        self.assertEqual(read_config(tree['brain'], tree['table'], 'idle')[1].strategy.name, 'idle')
+
+    def test_the_match_timer_block_is_not_the_match_strategy(self):
+        # a robot of its own with a match duration and no match_variant: nothing asks for a variant
+        brain = {'strategy': 'idle', 'match': {'duration': 100}}
+        params, settings = read_config(brain, {})
+        self.assertEqual(settings.duration, 100.0)
+        self.assertEqual(unknown(params), [])
 
     def test_a_missing_strategy_names_the_allowed_ones(self):
         with self.assertRaises(StrategyError) as e:

@@ -1,4 +1,5 @@
-"""The parameter tables (make docs: hcl_drivers, hal_nodes and robot_sim's PARAMETERS.md) are what
+"""The parameter tables (make docs: hcl_drivers, hal_nodes, robot_sim, smart_brain and
+robot_description's PARAMETERS.md) are what
 the readers declare: regenerated from the code, they equal the committed files; and they hold
 what a reader asks for, with the default and the range it checks."""
 import os
@@ -42,7 +43,7 @@ class ParameterTablesTest(unittest.TestCase):
         # the meaning is the reader's own Params::describe beside the read: a new parameter
         # without one shows here, not as a silent blank in the docs
         blank = []
-        for package in ('hcl_drivers', 'hal_nodes', 'robot_sim'):
+        for package in ('hcl_drivers', 'hal_nodes', 'robot_sim', 'smart_brain', 'robot_description'):
             with open(os.path.join(ROOT, package, 'PARAMETERS.md')) as f:
                 blank += ['%s: %s' % (package, l.split('|')[1].strip()) for l in f
                           if l.startswith('| `') and l.rstrip().endswith('|  |')]
@@ -53,6 +54,16 @@ class ParameterTablesTest(unittest.TestCase):
         world = rows('robot_sim', 'sim/world')
         self.assertEqual(world['dt'][:3], ['number', '0.001', '0.0001 .. 0.02'])
         self.assertIn('robot/motors/<name>/max_speed', world)
+
+
+    def test_the_brain_the_simulator_node_and_the_python_nodes_have_tables(self):
+        brain = rows('smart_brain', 'brain')
+        self.assertEqual(brain['rate'][:3], ['number', '10.0', '> 0'])
+        self.assertEqual(brain['match/start'][:3], ['string', 'cord', 'one of: cord, immediate'])
+        self.assertIn('approach', rows('smart_brain', 'brain/match2009'))
+        self.assertIn('distance', rows('smart_brain', 'brain/triggers/opponent_ahead'))
+        self.assertIn('realtime_priority', rows('robot_sim', 'sim (the simulator node)'))
+        self.assertEqual(rows('robot_description', 'process_watch (~)')['nodes'][:2], ['list', 'required'])
 
 
 if __name__ == '__main__':

@@ -57,6 +57,7 @@ class _Record(object):
         self.asked = set()      # qualified names (a dictionary read whole counts as asked throughout)
         self.blocks = set()     # dictionaries read key by key (block())
         self.unused = set()     # whole subtrees left alone on purpose
+        self.describing = False  # a reader run for its declarations: a missing required value is None
         self.declared = {}      # qualified name -> Declaration
 
 
@@ -111,6 +112,8 @@ class Params(object):
             self.describe(key, meaning)
         if key not in self._tree:
             if default is REQUIRED:
+                if self._record.describing:
+                    return None
                 raise ParameterError('missing required parameter %s' % self.qualified(key))
             return default
         value = self._tree[key]
@@ -189,3 +192,27 @@ class Params(object):
                 self._collect(tree[key], name, out)
             elif name not in self._record.blocks:
                 out.append('%s = %r' % (name, tree[key]))
+
+
+def declaration_lines(params, component):
+    """What a reader declared, a tab-separated line per parameter: component, name, type,
+    required|optional, default, allowed, meaning (the rows `make docs` turns into a table).
+    `component(name)` -> (table, name in it)."""
+    lines = []
+    for name, d in sorted(params.declarations().items()):
+        table, key = component(name)
+        lines.append('\t'.join((table, key, d.type, 'required' if d.required else 'optional', d.default, d.rule,
+                                d.meaning)))
+    return lines
+
+
+def describe_node(node, read, argv):
+    """A Python node's `--describe` (make docs): when argv holds it, prints what `read(params)`
+    declares over an empty private namespace (every default) as `node` rows and returns True."""
+    if '--describe' not in argv:
+        return False
+    params = Params({}, '~')
+    params._record.describing = True
+    read(params)
+    print('\n'.join(declaration_lines(params, lambda name: (node, name))))
+    return True

@@ -30,7 +30,7 @@ from robot_core.params import ParameterError, Params
 from std_srvs.srv import Trigger, TriggerResponse
 
 from smart_brain import strategy as strategies
-from smart_brain.brain_config import BrainSettings, unknown
+from smart_brain.brain_config import read_config, unknown
 from smart_brain.statemachine import GOAL_GUARD, clock
 from smart_brain.strategy import StrategyError
 
@@ -76,7 +76,7 @@ class Brain(object):
         # Every parameter of the brain and its strategy, read at once (brain_config.py).
         self.params = Params.from_server('~')
         self.table = rospy.get_param('/table', {})
-        settings = BrainSettings(self.params, self.table)
+        _, settings = read_config(self.params, self.table)  # and every other strategy the config sets up
         for line in unknown(self.params):
             rospy.logwarn('brain: %s', line)
         self.strategy = settings.strategy

@@ -19,14 +19,18 @@ class BrainSettings(object):
     def __init__(self, params, table, strategy=None):
         """`params`: the brain's Params; `table`: the /table dictionary; `strategy`: the strategy
         to run (None: ~strategy)."""
-        strategies.load_modules(params.value('strategy_modules', [], list,
-                                             meaning='extra Python modules that @register strategies'))
-        if not strategy and not params.has('strategy'):
+        strategies.load_modules(params.value(
+            'strategy_modules', [], list, meaning='extra Python modules that @register strategies',
+            check=lambda v: '' if all(isinstance(m, str) for m in v) else 'must be a list of Python module names'))
+        if strategy:
+            params.unused('strategy')  # the caller's choice replaces the config's
+            name = strategy
+        elif not params.has('strategy'):
             raise StrategyError('missing required parameter %s; allowed values: %s'
                                 % (params.qualified('strategy'), ', '.join(strategies.available())))
-        name = params.value('strategy', REQUIRED, str, meaning='the strategy the brain runs (a registered name; '
-                            'check_config --strategy and make run STRATEGY= replace it)')
-        name = strategy or name
+        else:
+            name = params.value('strategy', REQUIRED, str, meaning='the strategy the brain runs (a registered '
+                                'name; check_config --strategy and make run STRATEGY= replace it)')
         self.rate_hz = params.positive('rate', 10.0, '[Hz] how often the strategy\'s execute() runs')
         self.device_timeout = params.positive('device_timeout', 10.0,
                                               "[s] how long to wait for the strategy's HAL devices and topics")
@@ -68,7 +72,7 @@ def read_config(brain, table, strategy=None):
     settings = BrainSettings(params, table, strategy)
     running = {settings.strategy.name, getattr(getattr(settings.strategy, '_impl', None), 'name', None)}
     for name in strategies.available():
-        if name not in running and params.has(name):
+        if name not in running and strategies.strategy_class(name).configured_in(params):
             strategies.create(name, params, table)
     return params, settings
 

@@ -36,6 +36,11 @@ class Strategy(object):
     #: what each key of the strategy's block means, in a line ('tracker/gate' for a key of a
     #: dictionary the strategy reads key by key): the meaning column of the brain's parameter table
     parameters = {}
+    @classmethod
+    def configured_in(cls, brain):
+        """Whether a config sets this strategy up (its block is in `brain`, the brain's Params):
+        check_config then reads it too, not only the one the brain runs."""
+        return brain.has(cls.name)
 
     def read_config(self, brain, table):
         """Read this strategy's parameters with no ROS: `brain` is the brain node's reader (a
@@ -94,6 +99,12 @@ def create(name, brain=None, table=None):
     if brain is not None:
         strategy.read_config(brain, table or {})
     return strategy
+
+
+def strategy_class(name):
+    """The registered class of strategy `name` (None when unknown)."""
+    _load_builtin()
+    return _REGISTRY.get(name)
 
 
 def load_modules(names):

@@ -7,9 +7,11 @@ the readers the nodes run at start, with no master (robot_core's check_component
 and the devices, robot_sim's check_sim_config for the world), each asked with --describe what it
 declared of every parameter it read: its type, whether it is required, its default and what is
 allowed, what it means: Params::describe beside the read). One table per board type
-(hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md), the simulated world
+(hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md), the simulator and its world
 (robot_sim/PARAMETERS.md) and the brain, its strategies and triggers (smart_brain/PARAMETERS.md,
 smart_brain's check_brain_config); the parameters every board or device type reads come first, once.
+The Python nodes whose parameters a launch file sets (NODES: robot_description's) are asked once
+each, `<node> --describe`, one table per node (robot_description/PARAMETERS.md).
 With --check nothing is written: exit 1 and the files that differ from what the code declares
 (the test that keeps the committed tables in sync)."""
 import argparse
@@ -31,6 +33,11 @@ SOURCES = (
     ('hal_nodes', 'robot_core', 'check_components', ['hal', 'hal_nodes', 'device', '--describe'], 'device'),
     ('robot_sim', 'robot_sim', 'check_sim_config', ['--describe'], 'world'),
     ('smart_brain', 'smart_brain', 'check_brain_config', ['--describe'], 'brain'),
+)
+# Python nodes whose parameters a launch file sets, not a robot's config: (package, its nodes),
+# each asked once with --describe (robot_core.params.describe_node).
+NODES = (
+    ('robot_description', ('diagnostics_markers', 'network_guard', 'process_watch', 'table_markers')),
 )
 Declaration = collections.namedtuple('Declaration', 'type required default rule meaning')
 
@@ -69,6 +76,16 @@ def declarations():
     """{table kind: {component type: {name: Declaration}}} over every config; a default that
     differs between configs (one computed from another value) is shown as each."""
     out = {kind: collections.defaultdict(dict) for _, _, _, _, kind in SOURCES}
+    for package, nodes in NODES:
+        out[package] = collections.defaultdict(dict)
+        for name in nodes:
+            done = subprocess.run([tool(package, name), '--describe'], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                  universal_newlines=True)
+            if done.returncode != 0:
+                sys.exit('parameter_tables: %s --describe failed:\n%s' % (name, done.stderr))
+            for line in done.stdout.splitlines():
+                component, pname, ptype, required, default, rule, meaning = line.split('\t')
+                out[package][component][pname] = Declaration(ptype, required == 'required', default, rule, meaning)
     for label, tree in configs():
         with tempfile.NamedTemporaryFile('w', suffix='.yaml', prefix='parameter_tables_') as f:
             yaml.safe_dump(tree, f)
@@ -108,12 +125,17 @@ def table(rows):
 def document(package, kind, components):
     """The text of PACKAGE/PARAMETERS.md."""
     what = {'board': 'board type (the `type:` of an `hcl:` block)', 'device': 'device type (the `type:` of a `hal:` block)',
-            'world': 'the simulated world, `sim/world` of a robot\'s sim overlay',
+            'world': 'the simulator node (`sim:` of a robot\'s sim overlay) and its world (`sim/world`)',
+            'robot_description': 'node (its private parameters, set by the robot\'s launch file)',
             'brain': 'the brain node\'s own values (`brain:` of a robot\'s config), each strategy\'s block '
                      '(`brain/<strategy>`) and each trigger\'s (`brain/triggers/<kind>`)'}[kind]
     lines = ['# %s parameters' % package, '',
-             'Written by `make docs` (`scripts/parameter_tables.py`) from the parameter readers themselves: every',
+             'Written by `make docs` (`scripts/parameter_tables.py`) from the parameter readers themselves: ' +
+             ('each' if kind in dict(NODES) else 'every'),
+             'node\'s reader, run with `--describe`, declares what it reads (type, required or default, what is'
+             if kind in dict(NODES) else
              'shipped robot\'s config goes through the reader each node runs at start, which declares what it',
+             'allowed, what it means). Do not edit by hand:' if kind in dict(NODES) else
              'read (type, required or default, what is allowed, what it means). Do not edit by hand:',
              '`test_parameter_tables` fails when this file and the code disagree. Per %s.' % what,
              '`<name>`: any name of your own (an entry of a dictionary of named blocks); `x[]/key`: a key of each',
@@ -127,7 +149,9 @@ def document(package, kind, components):
         lines += ['## Every %s' % kind, ''] + table(common) + ['']
     for t in types:
         own = {n: d for n, d in components[t].items() if n not in common}
-        title = {'world': 'sim/world', 'brain': 'brain' if t == 'brain' else 'brain/' + t}.get(kind, t)
+        title = {'robot_description': t + ' (~)',
+                 'world': 'sim/world' if t == 'world' else 'sim (the simulator node)',
+                 'brain': 'brain' if t == 'brain' else 'brain/' + t}.get(kind, t)
         lines += ['## %s' % title, ''] + (table(own) if own else
                                            ['Only the parameters every %s reads.' % kind]) + ['']
     return '\n'.join(lines).rstrip() + '\n'
@@ -139,7 +163,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     found = declarations()
     stale = []
-    for package, _, _, _, kind in SOURCES:
+    for package, kind in [(package, kind) for package, _, _, _, kind in SOURCES] + [(p, p) for p, _ in NODES]:
         path = os.path.join(ROOT, package, 'PARAMETERS.md')
         text = document(package, kind, found[kind])
         old = open(path).read() if os.path.exists(path) else None

@@ -15,6 +15,10 @@ class MatchStrategy(Strategy):
     def __init__(self):
         self._impl = None
 
+    @classmethod
+    def configured_in(cls, brain):
+        return brain.has('match_variant')  # it has no block: ~match is the brain's own (the match timer)
+
     def read_config(self, brain, table):
         """~match_variant, then the variant's own parameters."""
         from smart_brain import strategy as strategies
