@@ -3,9 +3,10 @@
 # to zero speed commanded on /hal/drive/cmd_vel (p50/p99), and the brain node's CPU use.
 # Runs the real brain node (strategy brain_bench_idle from test/scripts, triggers from
 # config/eurobot2009.yaml) on a private ROS master; the bench plays the front ranger
-# (sensor_msgs/Range on /hal/rangers/sharp_front_left). It measures the brain's share only: the
+# (sensor_msgs/Range on /hal/rangers/sharp_front_left) and /odom (driving forwards: the trigger
+# watches only a robot that drives). It measures the brain's share only: the
 # simulator's ground truth -> motor board emulator path needs the full simulated robot.
-# Run from the repo root with the workspace sourced. Prints figures, exits 0.
+# Run from the repo root with the workspace sourced. Prints figures; exits 1 when it could not measure.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 port=11471   # private master for this bench (brain area)
@@ -29,6 +30,7 @@ python3 - "$brain" <<'PY'
 import os, sys, threading, time
 import rospy
 from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Range
 
 pid = int(sys.argv[1])
@@ -39,6 +41,10 @@ def on_twist(m):
         zero.set()
 rospy.Subscriber('/hal/drive/cmd_vel', Twist, on_twist, queue_size=10, tcp_nodelay=True)
 pub = rospy.Publisher('/hal/rangers/sharp_front_left', Range, queue_size=1)
+# The trigger fires only while the robot drives (/odom forward): it drives at 0.3 m/s throughout.
+odom = rospy.Publisher('/odom', Odometry, queue_size=1, latch=True)
+driving = Odometry()
+driving.twist.twist.linear.x = 0.3
 
 def rng(r):
     m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5, min_range=0.03, max_range=2.5, range=r)
@@ -52,8 +58,9 @@ def cpu():
     return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
 
 deadline = time.time() + 30
-while pub.get_num_connections() == 0 and time.time() < deadline:
+while (pub.get_num_connections() == 0 or odom.get_num_connections() == 0) and time.time() < deadline:
     time.sleep(0.1)
+odom.publish(driving)
 time.sleep(1.0)
 # CPU while idle-running (10 Hz loop, triggers polled at 50 Hz, far ranger at 20 Hz).
 c0, t0 = cpu(), time.time()
@@ -77,7 +84,7 @@ busy_cpu = 100.0 * (cpu() - c0) / (time.time() - t0)
 lat.sort()
 if not lat:
     print('brain: no zero speed seen: FAILED to measure')
-    sys.exit(0)
+    sys.exit(1)
 p = lambda q: lat[min(len(lat) - 1, int(q * len(lat)))] * 1000
 print('brain: opponent in range -> zero speed on /hal/drive/cmd_vel (brain share, %d/60 events): p50 %.1f ms, p99 %.1f ms, max %.1f ms'
       % (len(lat), p(0.5), p(0.99), lat[-1] * 1000))
@@ -85,4 +92,4 @@ print('brain: CPU of the brain node: %.1f %% of one core idle-running, %.1f %% w
       % (idle_cpu, busy_cpu))
 print('brain: not measured here: simulator ground truth -> motor board emulator zero speed (needs the simulated robot stack)')
 PY
-exit 0
+# a bench that could not measure says so to make bench (run_bench.sh reports it FAILED)
