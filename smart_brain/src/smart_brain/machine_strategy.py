@@ -46,9 +46,7 @@ class MachineStrategy(Strategy):
         return self.params(key, default)
 
     def initialize(self):
-        if not hasattr(self, 'trigger_settings'):  # created without the brain's reader: read the server's
-            from robot_core.params import Params
-            self.read_config(Params.from_server('~'), rospy.get_param('/table', {}))
+        self.ensure_config()
         self.machine = self.build()
         self.machine.check_consistency()
         self.triggers = trigger_kinds.make(self.trigger_settings)

@@ -51,6 +51,13 @@ class Strategy(object):
         for key, meaning in self.parameters.items():
             self.params.describe(key, meaning)
 
+    def ensure_config(self):
+        """read_config() from the parameter server, for a strategy created without the brain's reader."""
+        if getattr(self, 'params', None) is None:
+            import rospy
+            from robot_core.params import Params
+            self.read_config(Params.from_server('~'), rospy.get_param('/table', {}))
+
     def initialize(self):
         """Set up subscriptions and publishers to HAL."""
 

@@ -6,6 +6,11 @@ import threading
 from smart_brain.statemachine import clock
 
 
+def table_size(table):
+    """(length, width) [m] of the table description (the /table dictionary), 3 x 2.1 where it is silent."""
+    return float(table.get('length', 3.0)), float(table.get('width', 2.1))
+
+
 class WorldView(object):
     def __init__(self, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0, border_margin=0.0,
                  on_elements=None):
@@ -15,7 +20,7 @@ class WorldView(object):
         #: [m] elements seen closer than this to a border are left out: a detection on the border
         #: line is no element, and one lying against the border cannot be taken without pushing it
         self.border_margin = float(border_margin)
-        self.table = (float(rospy.get_param('/table/length', 3.0)), float(rospy.get_param('/table/width', 2.1)))
+        self.table = table_size(rospy.get_param('/table', {}))
         from geometry_msgs.msg import PoseWithCovarianceStamped
         from hal_nodes.msg import GameElements
         self.max_age = max_age

@@ -72,6 +72,13 @@ def tool(package, name):
     return found
 
 
+def described(text):
+    """(component, parameter, Declaration) of each line a reader's --describe printed."""
+    for line in text.splitlines():
+        component, pname, ptype, required, default, rule, meaning = line.split('\t')
+        yield component, pname, Declaration(ptype, required == 'required', default, rule, meaning)
+
+
 def declarations():
     """{table kind: {component type: {name: Declaration}}} over every config; a default that
     differs between configs (one computed from another value) is shown as each."""
@@ -83,9 +90,8 @@ def declarations():
                                   universal_newlines=True)
             if done.returncode != 0:
                 sys.exit('parameter_tables: %s --describe failed:\n%s' % (name, done.stderr))
-            for line in done.stdout.splitlines():
-                component, pname, ptype, required, default, rule, meaning = line.split('\t')
-                out[package][component][pname] = Declaration(ptype, required == 'required', default, rule, meaning)
+            for component, pname, d in described(done.stdout):
+                out[package][component][pname] = d
     for label, tree in configs():
         with tempfile.NamedTemporaryFile('w', suffix='.yaml', prefix='parameter_tables_') as f:
             yaml.safe_dump(tree, f)
@@ -95,15 +101,15 @@ def declarations():
                                       stderr=subprocess.PIPE, universal_newlines=True)
                 if done.returncode != 0:
                     sys.exit('parameter_tables: %s refused %s:\n%s' % (name, label, done.stderr))
-                for line in done.stdout.splitlines():
-                    component, pname, ptype, required, default, rule, meaning = line.split('\t')
+                for component, pname, d in described(done.stdout):
                     seen = out[kind][component].get(pname)
-                    if seen and not ptype:  # described, not read, in this config: what another read says
+                    if seen and not d.type:  # described, not read, in this config: what another read says
                         continue
+                    default = d.default
                     if seen and default not in seen.default.split(' or '):
                         default = seen.default + ' or ' + default
-                    out[kind][component][pname] = Declaration(ptype, required == 'required', default, rule,
-                                                              meaning or (seen.meaning if seen else ''))
+                    out[kind][component][pname] = d._replace(default=default,
+                                                             meaning=d.meaning or (seen.meaning if seen else ''))
     return out
 
 

@@ -84,9 +84,7 @@ class JoystickStrategy(Strategy):
     def initialize(self):
         from geometry_msgs.msg import Twist
         from hal_nodes.msg import JoystickEvent, JoystickState
-        if not hasattr(self, 'bindings'):  # created without the brain's reader: read the server's
-            from robot_core.params import Params
-            self.read_config(Params.from_server('~'), {})
+        self.ensure_config()
         self.slave = BrainSlave()
         self._lock = threading.Lock()
         self._last_state = None   # when the last usable state arrived (the brain's clock)

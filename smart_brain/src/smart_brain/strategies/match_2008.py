@@ -29,7 +29,7 @@ from smart_brain.play.element_tracker import ElementTracker
 from smart_brain.play.task_cost import TaskCost
 from smart_brain.statemachine import CBState, StateMachine, WaitState, clock
 from smart_brain.strategy import StrategyError, register
-from smart_brain.world_view import nearest_first
+from smart_brain.world_view import nearest_first, table_size
 
 log = logging.getLogger('smart_brain.statemachine')
 
@@ -66,7 +66,7 @@ class Match2008Strategy(MachineStrategy):
     # ---------------------------------------------------------------- configuration
     def read_config(self, brain, table):
         MachineStrategy.read_config(self, brain, table)
-        self.configure(self.params, (float(table.get('length', 3.0)), float(table.get('width', 2.1))),
+        self.configure(self.params, table_size(table),
                        table.get('elements', []), table.get('score_zones', []))
         self.harvester_topic = self.params('harvester_topic', '')
         self.vision_topic = self.params('vision_topic', '/hal/vision/elements')
