@@ -1,5 +1,6 @@
 #include "match_panel/panel_model.h"
 
+#include <robot_core/params.h>
 #include <robot_sim/SetSwitch.h>
 #include <smart_brain/SwitchStrategy.h>
 #include <std_srvs/Trigger.h>
@@ -30,8 +31,14 @@ PanelModel::PanelModel() {
   // Every container publishes on one topic: a deep queue, so a burst of transitions is not lost.
   subs_.push_back(nh_.subscribe("/brain/smach/container_status", 100, &PanelModel::onContainerStatus, this));
   subs_.push_back(nh_.subscribe("/diagnostics", 50, &PanelModel::onDiagnostics, this));
-  // config/<robot>.yaml robot/name; read once: it does not change while the robot runs.
-  if (!ros::param::get("/robot/name", robot_name_) || robot_name_.empty()) robot_name_ = "unknown";
+  // config/<robot>.yaml robot/name; read once: it does not change while the robot runs. The panel
+  // shows what it can: a description without a usable name is "unknown", not a broken panel.
+  try {
+    robot_name_ = robot_core::Params::of(ros::NodeHandle("/robot")).optionalString("name", "");
+  } catch (const std::exception& e) {
+    ROS_WARN("match panel: %s", e.what());
+  }
+  if (robot_name_.empty()) robot_name_ = "unknown";
   spinner_.reset(new ros::AsyncSpinner(1, &queue_));
   spinner_->start();
 }

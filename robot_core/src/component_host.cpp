@@ -1,5 +1,6 @@
 #include "robot_core/component_host.h"
 
+#include "robot_core/host_settings.h"
 #include "robot_core/params.h"
 #include "robot_core/realtime.h"
 
@@ -31,35 +32,20 @@ bool ComponentHost::loadFromParameters(const ros::NodeHandle& pnh) {
               pnh.getNamespace().c_str());
     return false;
   }
-  // Its real-time threads' priority (robot_core/realtime.h), set before any component starts one.
-  const Params host(all, pnh.getNamespace());
+  // Its own values (its real-time threads' priority, ~only) before any component starts one.
+  HostSettings settings;
   try {
-    const int priority = host.optionalInt("realtime_priority", 0);
-    host.requireInRange("realtime_priority", priority, 0, 99);
-    setRealtimePriority(priority);
+    settings = HostSettings::read(Params(all, pnh.getNamespace()), kind_);
   } catch (const ParameterError& e) {
     ROS_FATAL("%s", e.what());
     return false;
   }
+  setRealtimePriority(settings.realtime_priority);
   // What this host publishes on /diagnostics is said once everything is loaded: a status that
   // never came (a device stuck before its first report) is then missing, not merely absent.
   pnh.deleteParam("status_names");
   const std::vector<std::string> types = availableTypes();
-  // ~only: load just these blocks (replaying a match through one device); empty: all of them.
-  std::vector<std::string> only;
-  XmlRpc::XmlRpcValue only_param;
-  if (pnh.getParam("only", only_param)) {
-    bool ok = only_param.getType() == XmlRpc::XmlRpcValue::TypeArray;
-    for (int i = 0; ok && i < only_param.size(); ++i) {
-      ok = only_param[i].getType() == XmlRpc::XmlRpcValue::TypeString && all.hasMember(only_param[i]);
-      if (ok) only.push_back(static_cast<std::string>(only_param[i]));
-    }
-    if (!ok) {
-      ROS_FATAL("parameter %s/only must be a list of configured %s names under %s", pnh.getNamespace().c_str(),
-                kind_.c_str(), pnh.getNamespace().c_str());
-      return false;
-    }
-  }
+  const std::vector<std::string>& only = settings.only;
   for (auto& entry : all) {
     const std::string& key = entry.first;
     XmlRpc::XmlRpcValue& block = entry.second;

@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include "robot_core/host_settings.h"
 #include "robot_core/params.h"
 #include "yaml_file.h"
 
@@ -175,4 +176,41 @@ TEST(Params, UnusedBlocksAreNotUnknownKeys) {
   if (!d.optionalBool("beacons/enabled", true)) d.unused("beacons");
   EXPECT_EQ(d.unasked(), (std::vector<std::string>{"/d/typo = 1"}));
   std::remove(f.c_str());
+}
+
+TEST(HostSettings, ReadsItsOwnValuesBesideTheBlocks) {
+  const std::string f = writeYaml(
+      "hal:\n"
+      "  realtime_priority: 20\n"
+      "  only: [odometry]\n"
+      "  odometry: {type: Odometry}\n");
+  const robot_core::HostSettings s = robot_core::HostSettings::read(Params::fromYamlFile(f, "hal"), "device");
+  EXPECT_EQ(s.realtime_priority, 20);
+  ASSERT_EQ(s.only.size(), 1u);
+  EXPECT_EQ(s.only[0], "odometry");
+  const Params host = Params::fromYamlFile(f, "hal");
+  robot_core::HostSettings::read(host, "device");
+  const auto declared = host.declarations();
+  EXPECT_EQ(declared.at("realtime_priority").rule, "0 .. 99");
+  EXPECT_FALSE(declared.at("only").meaning.empty());
+  std::remove(f.c_str());
+}
+
+TEST(HostSettings, RefusesAPriorityOutOfRangeAndAnUnknownBlock) {
+  const std::string high = writeYaml("hcl:\n  realtime_priority: 100\n");
+  try {
+    robot_core::HostSettings::read(Params::fromYamlFile(high, "hcl"), "board");
+    FAIL() << "a priority of 100 was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("/hcl/realtime_priority = 100"), std::string::npos) << e.what();
+  }
+  const std::string only = writeYaml("hal:\n  only: [odometri]\n  odometry: {type: Odometry}\n");
+  try {
+    robot_core::HostSettings::read(Params::fromYamlFile(only, "hal"), "device");
+    FAIL() << "an unknown block in only was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("'odometri' is not a configured device"), std::string::npos) << e.what();
+  }
+  std::remove(high.c_str());
+  std::remove(only.c_str());
 }

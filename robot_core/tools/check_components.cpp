@@ -9,7 +9,8 @@
 // MCP23016 (it reads: address, bus, ...)"), exit 1; nothing and exit 0 when the blocks are good.
 //   check_components CONFIG.yaml NAMESPACE PACKAGE KIND --describe
 // also prints, for each good block, what its reader declared of each parameter (the generated
-// parameter tables, make docs): "TYPE<tab>name<tab>type<tab>required|optional<tab>default<tab>rule<tab>meaning".
+// parameter tables, make docs): "TYPE<tab>name<tab>type<tab>required|optional<tab>default<tab>rule<tab>meaning",
+// and the host's own values (robot_core/host_settings.h) as TYPE "(host)".
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_loader.hpp>
 
@@ -21,6 +22,7 @@
 
 #include "robot_core/component_host.h"
 #include "robot_core/configurable_component.h"
+#include "robot_core/host_settings.h"
 #include "robot_core/params.h"
 #include "robot_core/robot_geometry.h"
 
@@ -92,9 +94,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
   }
+  int errors = 0;
+  try {  // the host's own values
+    robot_core::HostSettings::read(host, kind);
+    if (describe)
+      for (const auto& [name, d] : host.declarations())
+        if (name.find('/') == std::string::npos)
+          std::printf("(host)\t%s\t%s\t%s\t%s\t%s\t%s\n", name.c_str(), d.type.c_str(),
+                      d.required ? "required" : "optional", d.fallback.c_str(), d.rule.c_str(), d.meaning.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    ++errors;
+  }
   const std::vector<std::string> types = robot_core::ComponentHost::declaredTypes(package);
   pluginlib::ClassLoader<nodelet::Nodelet> plugins("nodelet", "nodelet::Nodelet");
-  int errors = 0;
   for (const std::string& key : host.keys()) {
     const robot_core::Params block = host[key];
     if (!block.has("type")) continue;  // a host setting (num_worker_threads), not a component

@@ -60,13 +60,30 @@ void print(const std::vector<CheckRow>& rows) {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "hcl_doctor", ros::init_options::AnonymousName | ros::init_options::NoRosout);
   ros::NodeHandle pnh("~");
-  const std::string hcl_ns = pnh.param<std::string>("hcl_ns", "/hcl");
-  const std::string computer_ns = pnh.param<std::string>("computer_ns", "/computer");
-  const double load_window = pnh.param("load_window", 2.0);
-  std::vector<std::string> only;  // roscpp takes _boards:=a,b as one string
-  std::stringstream names(pnh.param<std::string>("boards", ""));
+  // Its own values, set by the doctor script from its command line.
+  std::string hcl_ns, computer_ns, boards;
+  double load_window = 2.0;
+  try {
+    const robot_core::Params own = robot_core::Params::of(pnh);
+    own.describe("hcl_ns", "the namespace of the robot's board blocks");
+    hcl_ns = own.optionalString("hcl_ns", "/hcl");
+    own.describe("computer_ns", "the namespace of the robot's computer block (its CAN interfaces)");
+    computer_ns = own.optionalString("computer_ns", "/computer");
+    own.describe("load_window", "[s] how long each CAN bus's load is measured");
+    load_window = own.optionalDouble("load_window", 2.0);
+    own.requirePositive("load_window", load_window);
+    own.describe("boards", "the boards to check, comma-separated (_boards:=a,b); empty: every board");
+    boards = own.optionalString("boards", "");
+  } catch (const std::exception& e) {
+    std::cerr << "doctor: " << e.what() << std::endl;
+    return 2;
+  }
+  std::vector<std::string> only;
+  std::stringstream names(boards);
   for (std::string name; std::getline(names, name, ',');)
     if (!name.empty()) only.push_back(name);
+  // The board blocks are walked as data (which channel each one uses); each board reads its own
+  // block with its configure() below.
   XmlRpc::XmlRpcValue blocks, computer;
   if (!ros::param::get(hcl_ns, blocks) || blocks.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
     std::cerr << "doctor: no board blocks under " << hcl_ns << std::endl;

@@ -1,8 +1,7 @@
 #include "robot_sim/firmware/firmware_host.h"
 
-#include <sstream>
-
 #include "robot_sim/firmware/channel_check.h"
+#include "robot_sim/firmware/firmware_check.h"
 #include "robot_sim/firmware/firmware_registry.h"
 
 namespace robot_sim {
@@ -28,27 +27,25 @@ bool FirmwareHost::startFromParameters() {
     return false;
   }
   for (auto& entry : all) {
-    XmlRpc::XmlRpcValue& block = entry.second;
-    if (block.getType() != XmlRpc::XmlRpcValue::TypeStruct || !block.hasMember("type")) continue;
     const std::string param = pnh_.getNamespace() + "/" + entry.first;
-    if (block.hasMember("enabled") && block["enabled"].getType() == XmlRpc::XmlRpcValue::TypeBoolean &&
-        !static_cast<bool>(block["enabled"]))
-      continue;
-    const std::string type = block["type"].getType() == XmlRpc::XmlRpcValue::TypeString
-                                 ? static_cast<std::string>(block["type"])
-                                 : std::string();
-    auto fw = FirmwareRegistry::instance().create(type);
-    if (!fw) {
-      std::ostringstream allowed;
-      const auto types = FirmwareRegistry::instance().types();
-      for (std::size_t i = 0; i < types.size(); ++i) allowed << (i ? ", " : "") << types[i];
-      ROS_FATAL("parameter %s/type = '%s': unknown emulator type; allowed values: %s", param.c_str(), type.c_str(),
-                allowed.str().c_str());
+    const ros::NodeHandle own(pnh_, entry.first);
+    const robot_core::Params params(entry.second, own.getNamespace());
+    std::string type;
+    try {
+      if (!isStartedEmulatorBlock(params)) continue;
+      type = params.requireString("type");
+    } catch (const std::exception& e) {
+      ROS_FATAL("%s", e.what());
       return false;
     }
-    const ros::NodeHandle own(pnh_, entry.first);
-    FirmwareContext ctx{nh_, own, robot_core::Params::of(own), entry.first, world_};
+    auto fw = FirmwareRegistry::instance().create(type);
+    if (!fw) {
+      ROS_FATAL("%s", unknownEmulatorType(params, type).c_str());
+      return false;
+    }
+    FirmwareContext ctx{nh_, own, params, entry.first, world_};
     try {
+      fw->configure(ctx.params);
       fw->start(ctx);
     } catch (const std::exception& e) {
       ROS_FATAL("emulator %s failed to start: %s", param.c_str(), e.what());

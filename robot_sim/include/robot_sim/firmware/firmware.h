@@ -31,7 +31,7 @@ inline double firmwareWallSlice(double left, double slice = 0.005) {
 struct FirmwareContext {
   ros::NodeHandle nh;   // global namespace: publish truth under /sim/...
   ros::NodeHandle pnh;  // the emulator's own namespace (a world-less emulator's live overrides)
-  robot_core::Params params;  // its parameters, read once at start
+  robot_core::Params params;  // its parameters (configure() has read them before start())
   std::string name;     // e.g. "ExampleBoard": the board type name of its driver
   World* world = nullptr;
 };
@@ -40,8 +40,13 @@ class Firmware {
  public:
   virtual ~Firmware() = default;
 
-  // Read ctx.params, open the channel and start answering. Throw std::runtime_error (a
-  // ParameterError is one) on bad parameters.
+  // Read every parameter into members and nothing else: no channel, no world, no ROS. Called
+  // before start(), and alone by check_sim_config (check_config) over a config file with no
+  // master, so a wrong value is found in seconds and the parameter tables (make docs) come from
+  // these reads (Params::describe beside each). Throw robot_core::ParameterError on a bad value.
+  virtual void configure(const robot_core::Params& params) { (void)params; }
+  // Check the configured names against the world (when there is one), open the channel and start
+  // answering. Throw std::runtime_error on what only the running simulation can refuse.
   virtual void start(FirmwareContext& ctx) = 0;
   // Stop answering and close the channel.
   virtual void stop() = 0;

@@ -4,9 +4,7 @@
 // A V4L2 device cannot be emulated without a kernel module (v4l2loopback); the stream is
 // the closest VideoCapture path, and the driver code above VideoCapture is identical.
 //
-// Parameters: ~port (TCP port on 127.0.0.1, e.g. 27220), ~fps (default 10, wall clock),
-//   ~mount ("top" | "front"), ~width ~height (default 320x240), ~x ~z ~pitch ~hfov (front mount),
-//   ~quality (JPEG, default 85).
+// Parameters: robot_sim/PARAMETERS.md (Camera).
 // Without a world it renders an empty table with the robot at its start (0.25, 0.25).
 // Truth (tests only): /sim/<name>/frames (std_msgs/UInt32, frames served, latched).
 // Faults: "board_silent" (the stream stalls: no frames).
@@ -34,26 +32,38 @@ class CameraFirmware : public Firmware {
  public:
   ~CameraFirmware() override { stop(); }
 
+  void configure(const robot_core::Params& params) override {
+    params.describe("port", "the TCP port on 127.0.0.1 it serves the MJPEG stream on (the driver's device in simulation)");
+    port_ = params.requireInt("port");
+    params.requireInRange("port", port_, 1, 65535);
+    params.describe("fps", "[Hz, wall clock] frames served a second");
+    fps_ = params.optionalDouble("fps", 10.0);
+    params.requireInRange("fps", fps_, 1e-3, 60.0);
+    params.describe("mount", "where the camera looks from: top (the whole table from above) or front (on the robot)");
+    model_.mount = params.optionalString("mount", "top");
+    params.requireOneOf("mount", model_.mount, {"top", "front"});
+    params.describe("width", "[px] image width");
+    model_.width = params.optionalInt("width", 320);
+    params.requireInRange("width", model_.width, 16, 4096);
+    params.describe("height", "[px] image height");
+    model_.height = params.optionalInt("height", 240);
+    params.requireInRange("height", model_.height, 16, 4096);
+    params.describe("x", "[m] front mount: ahead of base_link");
+    model_.x = params.optionalDouble("x", model_.x);
+    params.describe("z", "[m] front mount: height above the table");
+    model_.z = params.optionalDouble("z", model_.z);
+    params.describe("pitch", "[rad] front mount: tilt down");
+    model_.pitch = params.optionalDouble("pitch", model_.pitch);
+    params.describe("hfov", "[rad] front mount: horizontal field of view");
+    model_.hfov = params.optionalDouble("hfov", model_.hfov);
+    params.describe("quality", "JPEG quality of each frame");
+    quality_ = params.optionalInt("quality", 85);
+    params.requireInRange("quality", quality_, 1, 100);
+  }
+
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    const int port = ctx.params.optionalInt("port", 0);
-    if (port <= 0 || port > 65535)
-      throw std::runtime_error("parameter " + ctx.params.qualified("port") + " must be a TCP port 1..65535");
-    fps_ = ctx.params.optionalDouble("fps", 10.0);
-    if (!(fps_ > 0 && fps_ <= 60)) throw std::runtime_error("parameter " + ctx.params.qualified("fps") + " must be in (0, 60]");
-    model_.mount = ctx.params.optionalString("mount", "top");
-    if (model_.mount != "top" && model_.mount != "front")
-      throw std::runtime_error("parameter " + ctx.params.qualified("mount") + " = '" + model_.mount + "': allowed values: top, front");
-    model_.width = ctx.params.optionalInt("width", 320);
-    model_.height = ctx.params.optionalInt("height", 240);
-    model_.x = ctx.params.optionalDouble("x", model_.x);
-    model_.z = ctx.params.optionalDouble("z", model_.z);
-    model_.pitch = ctx.params.optionalDouble("pitch", model_.pitch);
-    model_.hfov = ctx.params.optionalDouble("hfov", model_.hfov);
-    quality_ = ctx.params.optionalInt("quality", 85);
-    if (model_.width < 16 || model_.height < 16 || model_.width > 4096 || model_.height > 4096)
-      throw std::runtime_error("parameters " + ctx.params.qualified("width") + "/height must be 16..4096");
-
+    const int port = port_;
     listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     int one = 1;
     ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
@@ -153,6 +163,7 @@ class CameraFirmware : public Firmware {
   double fps_ = 10.0;
   int quality_ = 85;
   int listen_fd_ = -1;
+  int port_ = 0;
   std::vector<int> clients_;  // server thread only
   std::atomic<bool> running_{false};
   std::thread thread_;

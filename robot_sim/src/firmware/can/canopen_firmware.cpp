@@ -30,23 +30,30 @@ CanopenFirmware::~CanopenFirmware() { stop(); }
 
 double CanopenFirmware::now() const { return firmwareNow(); }
 
+void CanopenFirmware::configure(const robot_core::Params& params) {
+  params.describe("bus", "the board's end of the CAN bus: socketcan://IFACE or udp://127.0.0.1:PORT (CAN over UDP), "
+                         "the driver's bus in simulation");
+  bus_url_ = params.requireString("bus");
+  params.describe("node_id", "the board's CANopen node id, as the driver's block says");
+  const int node = params.requireInt("node_id");
+  params.requireInRange("node_id", node, 1, 127);
+  node_id_ = static_cast<uint8_t>(node);
+  params.describe("bench_ticks_per_s", "without a world (firmware_host): encoder counts per second at full command");
+  bench_ticks_per_s_ = params.optionalDouble("bench_ticks_per_s", 4000.0);
+  params.describe("bench_range", "[m] without a world: the distance every ranger reads");
+  bench_range_ = params.optionalDouble("bench_range", 0.35);
+  params.describe("bench_closed", "without a world: the switches that read closed");
+  bench_closed_ = params.optionalStringList("bench_closed");
+  readBoardParams(params);
+}
+
 void CanopenFirmware::start(FirmwareContext& ctx) {
   name_ = ctx.name;
-  const std::string url = ctx.params.optionalString("bus", "");
-  if (url.empty())
-    throw std::runtime_error("parameter " + ctx.params.qualified("bus") + " missing: socketcan://IFACE or udp://127.0.0.1:PORT");
-  const int node = ctx.params.optionalInt("node_id", 0);
-  if (node < 1 || node > 127)
-    throw std::runtime_error("parameter " + ctx.params.qualified("node_id") + ": required, 1..127");
-  node_id_ = static_cast<uint8_t>(node);
+  const std::string url = bus_url_;
+  const uint8_t node = node_id_;
   world_ = ctx.world;
   if (!world_) {
-    double tps = 4000.0, range = 0.35;
-    std::vector<std::string> closed;
-    tps = ctx.params.optionalDouble("bench_ticks_per_s", tps);
-    range = ctx.params.optionalDouble("bench_range", range);
-    closed = ctx.params.optionalStringList("bench_closed", closed);
-    bench_world_ = std::make_unique<BenchWorld>(tps, range, closed);
+    bench_world_ = std::make_unique<BenchWorld>(bench_ticks_per_s_, bench_range_, bench_closed_);
     world_ = bench_world_.get();
   }
   // Common object dictionary entries (CiA 301).
@@ -68,7 +75,7 @@ void CanopenFirmware::start(FirmwareContext& ctx) {
                              }});  // user label, up to 64 bytes
   {
     std::lock_guard<std::mutex> lk(mutex_);
-    setupBoard(ctx);
+    setupBoard();
   }
   try {
     bus_ = hcl_drivers::transport::openCanBus(url);

@@ -7,7 +7,8 @@
 // driver's encoders (hcl_drivers/canopen), so a shared bug cannot hide; only the bus transport
 // (hcl_drivers/transport/can_bus.h: SocketCAN or CAN over UDP) is shared with the drivers.
 //
-// Parameters (sim/firmware/<name>/...): bus (socketcan://IFACE or udp://127.0.0.1:PORT), node_id.
+// Parameters (sim/firmware/<name>/...): bus, node_id, the bench world's and the board's own
+// (robot_sim/PARAMETERS.md).
 // Faults (Firmware::applyFault, /sim/inject_fault): board_silent, can_bus_off (an error frame
 // "bus-off" on the bus, silent until cleared, then "controller restarted"), can_reset (power
 // cycle: boot-up, counters restart), can_malformed (one TPDO of a wrong length and one frame on
@@ -39,13 +40,17 @@ using hcl_drivers::transport::CanFrame;
 class CanopenFirmware : public Firmware {
  public:
   ~CanopenFirmware() override;
+  // bus, node_id and the bench world's values, then the board's own (readBoardParams).
+  void configure(const robot_core::Params& params) final;
   void start(FirmwareContext& ctx) final;
   void stop() final;
   bool applyFault(const std::string& kind, bool active) override;
 
  protected:
   // ---- the board's hooks; all run on the emulator thread with mutex() held ----
-  virtual void setupBoard(FirmwareContext& ctx) = 0;  // params; throw std::runtime_error when bad
+  // The board's own parameters into members (configure(): no world, no bus; nodeId() is read).
+  virtual void readBoardParams(const robot_core::Params& params) = 0;
+  virtual void setupBoard() = 0;                      // its objects; throw std::runtime_error when bad
   virtual void resetBoard() = 0;                      // power-on state
   // An RPDO (or any frame with this node's id that is not NMT/SDO): false when it is not one of
   // the board's COB-IDs (counted as unknown) or has the wrong length (counted malformed).
@@ -118,6 +123,9 @@ class CanopenFirmware : public Firmware {
 
   std::shared_ptr<hcl_drivers::transport::CanBus> bus_;
   std::shared_ptr<hcl_drivers::transport::CanChannel> channel_;
+  std::string bus_url_;
+  double bench_ticks_per_s_ = 4000.0, bench_range_ = 0.35;  // the bench world's, when the host has none
+  std::vector<std::string> bench_closed_;
   std::unique_ptr<BenchWorld> bench_world_;  // when the host has no world
   World* world_ = nullptr;
   uint8_t node_id_ = 0;

@@ -7,8 +7,7 @@
 // voltage (bit1 = 0), fault reset (bit 7 rising edge). The motor is driven (fraction = target /
 // nominal_rpm) only in operation-enabled and profile velocity mode; a fault (injected:
 // epos_fault) stops it and sets error code 0x3210 (overvoltage) until a fault reset.
-// Parameters: bus, node_id, motor, encoder (default motor), nominal_rpm (default 8000),
-// counts_per_rev [qc per motor revolution] (default 2000), feedback_cob_id.
+// Parameters: robot_sim/PARAMETERS.md (Epos).
 #include <cmath>
 
 #include "canopen_firmware.h"
@@ -21,15 +20,24 @@ class EposFirmware : public CanopenFirmware {
   enum State : uint16_t { kSwitchOnDisabled = 0x0240, kReadyToSwitchOn = 0x0221, kSwitchedOn = 0x0233,
                           kOperationEnabled = 0x0237, kFault = 0x0208 };
 
-  void setupBoard(FirmwareContext& ctx) override {
-    motor_ = ctx.params.requireString("motor");
-    encoder_ = ctx.params.optionalString("encoder", motor_);
-    nominal_rpm_ = ctx.params.optionalDouble("nominal_rpm", 8000.0);
-    ctx.params.requirePositive("nominal_rpm", nominal_rpm_);
-    counts_per_rev_ = ctx.params.optionalDouble("counts_per_rev", 2000.0);
-    ctx.params.requirePositive("counts_per_rev", counts_per_rev_);
-    const int fb = ctx.params.optionalInt("feedback_cob_id", 0x280 + nodeId());
+  void readBoardParams(const robot_core::Params& params) override {
+    params.describe("motor", "the world's motor the drive turns");
+    motor_ = params.requireString("motor");
+    params.describe("encoder", "the world's encoder of its position feedback (default: the motor's)");
+    encoder_ = params.optionalString("encoder", motor_);
+    params.describe("nominal_rpm", "[rpm] the target velocity that drives the motor at full command");
+    nominal_rpm_ = params.optionalDouble("nominal_rpm", 8000.0);
+    params.requirePositive("nominal_rpm", nominal_rpm_);
+    params.describe("counts_per_rev", "[qc] position counts per motor revolution");
+    counts_per_rev_ = params.optionalDouble("counts_per_rev", 2000.0);
+    params.requirePositive("counts_per_rev", counts_per_rev_);
+    params.describe("feedback_cob_id", "the COB-ID of TPDO2 (position and velocity), the driver's; default 0x280 + node_id");
+    const int fb = params.optionalInt("feedback_cob_id", 0x280 + nodeId());
+    params.requireInRange("feedback_cob_id", fb, 1, 0x7FF);
     feedback_cob_ = static_cast<uint32_t>(fb);
+  }
+
+  void setupBoard() override {
     if ((feedback_cob_ & 0x7F) != nodeId()) addExtraCobId(feedback_cob_);
     addObject(0x6060, 0, {1, [this] { return static_cast<uint32_t>(static_cast<uint8_t>(mode_)); }, [this](uint32_t v) {
                             mode_ = static_cast<int8_t>(v);

@@ -2,7 +2,7 @@
 //   RPDO1 0x200+n [line u8, column u8, 1..6 characters]   TPDO1 0x180+n [keys u16, last key u8, presses u8]
 // Keys are world switches (default names hmi_key_0 .. hmi_key_15; /sim/set_switch presses them);
 // the LCD content is the truth's `text` ("line0\nline1").
-// Parameters: bus, node_id, keys: [16 world switch names in key order].
+// Parameters: robot_sim/PARAMETERS.md (HmiBoard).
 #include "canopen_firmware.h"
 #include "robot_sim/firmware/firmware_registry.h"
 
@@ -10,12 +10,16 @@ namespace robot_sim {
 
 class CanHmiBoardFirmware : public CanopenFirmware {
  protected:
-  void setupBoard(FirmwareContext& ctx) override {
-    keys_ = ctx.params.optionalStringList("keys");
-    if (!ctx.params.has("keys"))
+  void readBoardParams(const robot_core::Params& params) override {
+    params.describe("keys", "the world's switches of the 16 keys in key order (default hmi_key_0 .. hmi_key_15)");
+    keys_ = params.optionalStringList("keys");
+    if (keys_.size() > 16) params.check("keys", "at most 16 names");
+    if (!params.has("keys"))
       for (int i = 0; i < 16; ++i) keys_.push_back("hmi_key_" + std::to_string(i));
     keys_.resize(16);
   }
+
+  void setupBoard() override {}
 
   void resetBoard() override {
     lcd_[0].assign(16, ' ');

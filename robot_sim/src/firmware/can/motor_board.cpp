@@ -5,7 +5,7 @@
 //   SDO 0x2001:00 u16 watchdog ms (rw, 10..1000, default 200), 0x2002:00 u16 firmware version
 // The watchdog: no RPDO1 for `watchdog` ms -> both motors 0 and flag set until the next RPDO1.
 // After a reset the encoder counters restart at 0.
-// Parameters: bus, node_id, motors: [world motor 0, world motor 1], encoders: [world encoders].
+// Parameters: robot_sim/PARAMETERS.md (MotorBoard).
 #include "canopen_firmware.h"
 #include "robot_sim/firmware/firmware_registry.h"
 
@@ -13,13 +13,17 @@ namespace robot_sim {
 
 class CanMotorBoardFirmware : public CanopenFirmware {
  protected:
-  void setupBoard(FirmwareContext& ctx) override {
-    motors_ = ctx.params.optionalStringList("motors");
-    if (motors_.empty() || motors_.size() > 2)
-      throw std::runtime_error("parameter " + ctx.params.qualified("motors") + ": 1..2 world motor names");
-    encoders_ = ctx.params.optionalStringList("encoders", motors_);
+  void readBoardParams(const robot_core::Params& params) override {
+    params.describe("motors", "the world's motors driven by channel 0 and 1 (1 or 2 names)");
+    motors_ = params.optionalStringList("motors");
+    if (motors_.empty() || motors_.size() > 2) params.check("motors", "1..2 world motor names");
+    params.describe("encoders", "the world's encoders counted by channel 0 and 1 (default: the motors')");
+    encoders_ = params.optionalStringList("encoders", motors_);
     motors_.resize(2);
     encoders_.resize(2);
+  }
+
+  void setupBoard() override {
     addObject(0x2001, 0, {2, [this] { return static_cast<uint32_t>(watchdog_ms_); }, [this](uint32_t v) {
                             if (v < 10 || v > 1000) return false;
                             watchdog_ms_ = static_cast<uint16_t>(v);

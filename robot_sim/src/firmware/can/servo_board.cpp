@@ -5,7 +5,7 @@
 // A servo at pulse p is driven to (p - 1500) / 500 * pi/2 rad. The ADC reads the GP2D12 output
 // for the world's range (datasheet curve below, 10..80 cm; nearer the output falls again,
 // farther it flattens to ~0.3 V) plus 1 LSB of noise.
-// Parameters: bus, node_id, servos: [world servos], rangers: [world rangers], switches: [world switches].
+// Parameters: robot_sim/PARAMETERS.md (ServoBoard).
 #include <cmath>
 #include <random>
 
@@ -16,15 +16,21 @@ namespace robot_sim {
 
 class CanServoBoardFirmware : public CanopenFirmware {
  protected:
-  void setupBoard(FirmwareContext& ctx) override {
-    servos_ = ctx.params.optionalStringList("servos");
-    rangers_ = ctx.params.optionalStringList("rangers");
-    switches_ = ctx.params.optionalStringList("switches");
-    if (servos_.size() > 4 || rangers_.size() > 4 || switches_.size() > 16)
-      throw std::runtime_error("parameters " + ctx.params.qualified("servos") + "/rangers/switches: at most 4/4/16 names");
+  void readBoardParams(const robot_core::Params& params) override {
+    params.describe("servos", "the world's servos on pulse outputs 0..3 (at most 4 names)");
+    servos_ = params.optionalStringList("servos");
+    if (servos_.size() > 4) params.check("servos", "at most 4 names");
+    params.describe("rangers", "the world's SHARP rangers on ADC channels 0..3 (at most 4 names)");
+    rangers_ = params.optionalStringList("rangers");
+    if (rangers_.size() > 4) params.check("rangers", "at most 4 names");
+    params.describe("switches", "the world's switches on input bits 0..15 (at most 16 names)");
+    switches_ = params.optionalStringList("switches");
+    if (switches_.size() > 16) params.check("switches", "at most 16 names");
     servos_.resize(4);
     rangers_.resize(4);
   }
+
+  void setupBoard() override {}
 
   void resetBoard() override { pulse_ = {0, 0, 0, 0}; }
 

@@ -2,8 +2,7 @@
 //   RPDO1 0x200+n [target0 i32, target1 i32]   TPDO1 0x180+n [position0 i32, position1 i32]
 //   TPDO2 0x280+n [end switches u8 (bit 2i min, 2i+1 max), moving u8 (bit i)]
 // A stepper moving towards an end switch that is closed stops there (target := position).
-// Parameters: bus, node_id, steppers: [world steppers], end_switches: [world switch names in bit
-// order] (default <stepper>_min, <stepper>_max).
+// Parameters: robot_sim/PARAMETERS.md (StepperBoard).
 #include "canopen_firmware.h"
 #include "robot_sim/firmware/firmware_registry.h"
 
@@ -11,12 +10,14 @@ namespace robot_sim {
 
 class CanStepperBoardFirmware : public CanopenFirmware {
  protected:
-  void setupBoard(FirmwareContext& ctx) override {
-    steppers_ = ctx.params.optionalStringList("steppers");
-    if (steppers_.empty() || steppers_.size() > 2)
-      throw std::runtime_error("parameter " + ctx.params.qualified("steppers") + ": 1..2 world stepper names");
-    switches_ = ctx.params.optionalStringList("end_switches");
-    if (!ctx.params.has("end_switches"))
+  void readBoardParams(const robot_core::Params& params) override {
+    params.describe("steppers", "the world's steppers driven by channel 0 and 1 (1 or 2 names)");
+    steppers_ = params.optionalStringList("steppers");
+    if (steppers_.empty() || steppers_.size() > 2) params.check("steppers", "1..2 world stepper names");
+    params.describe("end_switches", "the world's switches in bit order (min, max of each stepper; default "
+                                    "<stepper>_min, <stepper>_max)");
+    switches_ = params.optionalStringList("end_switches");
+    if (!params.has("end_switches"))
       for (const auto& s : steppers_) {
         switches_.push_back(s + "_min");
         switches_.push_back(s + "_max");
@@ -24,6 +25,8 @@ class CanStepperBoardFirmware : public CanopenFirmware {
     steppers_.resize(2);
     switches_.resize(4);
   }
+
+  void setupBoard() override {}
 
   void resetBoard() override {
     for (int i = 0; i < 2; ++i) {

@@ -2,7 +2,7 @@
 // (request 'E' 'X' 0x01 seq lamp -> reply 'E' 'X' 0x81 seq dial_lo dial_hi lamp uptime[4], LE).
 // The dial turns by itself as a triangle wave so something always moves.
 //
-// Parameters: ~endpoint (udp://127.0.0.1:PORT to listen on), ~dial_period [s] (default 8).
+// Parameters: robot_sim/PARAMETERS.md (ExampleBoard).
 // Truth: /sim/<name>/firmware (robot_sim/ExampleFirmware) at 50 Hz.
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -28,17 +28,23 @@ class ExampleBoardFirmware : public Firmware {
  public:
   ~ExampleBoardFirmware() override { stop(); }
 
+  // Every parameter into members (check_config runs this alone); start() opens the socket.
+  void configure(const robot_core::Params& params) override {
+    params.describe("endpoint", "udp://HOST:PORT to listen on (the driver's endpoint in simulation)");
+    endpoint_ = params.requireString("endpoint");
+    const auto colon = endpoint_.rfind(':');
+    if (endpoint_.rfind("udp://", 0) != 0 || colon < 6 || std::atoi(endpoint_.c_str() + colon + 1) <= 0)
+      params.check("endpoint", "must be udp://HOST:PORT");
+    params.describe("dial_period", "[s] the dial's triangle wave period");
+    dial_period_ = params.optionalDouble("dial_period", 8.0);
+    params.requirePositive("dial_period", dial_period_);
+  }
+
   void start(FirmwareContext& ctx) override {
-    const std::string url = ctx.params.optionalString("endpoint", "");
-    if (url.rfind("udp://", 0) != 0)
-      throw std::runtime_error("parameter " + ctx.params.qualified("endpoint") + " must be udp://HOST:PORT");
+    const std::string& url = endpoint_;
     const std::string hostport = url.substr(6);
     const auto colon = hostport.rfind(':');
-    if (colon == std::string::npos) throw std::runtime_error("parameter endpoint '" + url + "' has no port");
     const int port = std::atoi(hostport.substr(colon + 1).c_str());
-    dial_period_ = ctx.params.optionalDouble("dial_period", 8.0);
-    ctx.params.requirePositive("dial_period", dial_period_);
-
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     int one = 1;
     ::setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
@@ -112,6 +118,7 @@ class ExampleBoardFirmware : public Firmware {
   }
 
   int fd_ = -1;
+  std::string endpoint_;
   double dial_period_ = 8.0;
   std::chrono::steady_clock::time_point boot_;
   std::atomic<bool> running_{false};

@@ -1,13 +1,13 @@
 // Emulator of the CMPS03 compass, I2C mode (datasheet register map). The bearing is
 // sampled when a read addresses register 0x00 or 0x01, so one block read is consistent.
 //
-// Parameters: ~bus (sim:///PATH), ~address (default 0x60),
-//   ~bearing   without a world: the bearing [deg] it reports, read live (default 0)
+// Parameters: robot_sim/PARAMETERS.md (CMPS03); without a world, ~bearing is followed live.
 // Truth (tests only): /sim/<name>/bearing (std_msgs/Float64, the bearing last sampled [deg]).
 // Faults: "board_silent".
 #include <std_msgs/Float64.h>
 
 #include <cmath>
+#include <optional>
 
 #include "register_chip.h"
 #include "robot_sim/firmware/firmware_registry.h"
@@ -19,11 +19,17 @@ class CMPS03Firmware : public RegisterChip {
  public:
   ~CMPS03Firmware() override { stop(); }
 
+  void configure(const robot_core::Params& params) override {
+    readBus(params, 0x08, 0x77);
+    params.describe("bearing", "[deg] without a world: the bearing it reports (followed live: rosparam set)");
+    bearing_ = params.optionalDouble("bearing", 0.0);
+  }
+
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
     pnh_ = ctx.pnh;
     truth_pub_ = ctx.nh.advertise<std_msgs::Float64>("/sim/" + ctx.name + "/bearing", 10, true);
-    attachBus(ctx, 0x08, 0x77);
+    attachBus(ctx);
   }
 
   void stop() override { detachBus(); }
@@ -43,11 +49,11 @@ class CMPS03Firmware : public RegisterChip {
 
  private:
   void sample() {
-    double deg = 0.0;
+    double deg = bearing_;
     if (world_)
       deg = world_->measureCompassDeg();
     else
-      pnh_.getParamCached("bearing", deg);
+      pnh_->getParamCached("bearing", deg);
     deg = std::fmod(deg, 360.0);
     if (deg < 0.0) deg += 360.0;
     word_ = static_cast<uint16_t>(std::lround(deg * 10.0) % 3600);
@@ -57,7 +63,8 @@ class CMPS03Firmware : public RegisterChip {
   }
 
   World* world_ = nullptr;
-  ros::NodeHandle pnh_;
+  std::optional<ros::NodeHandle> pnh_;  // set by start(): configure() alone needs no ros::init
+  double bearing_ = 0.0;
   uint16_t word_ = 0;
   ros::Publisher truth_pub_;
 };

@@ -1,9 +1,7 @@
 // Emulator of Logion's HBmotor board (register map: hcl_drivers/boards/hbmotor_registers.h,
 // reimplemented here from that text). One H-bridge and one 32-bit encoder counter.
 //
-// Parameters: ~bus (sim:///PATH), ~address (0x08..0x77),
-//   ~motor, ~encoder        the world's motor and encoder names (with a world; encoder "" = none)
-//   ~ticks_per_second       without a world: counts per second at full command (default 2000)
+// Parameters: robot_sim/PARAMETERS.md (HBMotor).
 // Truth (tests only): /sim/<name>/duty (std_msgs/Int32, the duty the H-bridge applies, 50 Hz).
 // Faults: "board_silent" (NACKs), "board_reset" (power-on state: flag set, watchdog off,
 // counter 0, motor off).
@@ -25,19 +23,26 @@ class HBMotorFirmware : public RegisterChip {
  public:
   ~HBMotorFirmware() override { stop(); }
 
+  void configure(const robot_core::Params& params) override {
+    readBus(params, 0x08, 0x77);
+    params.describe("motor", "with a world: the world's motor the H-bridge drives");
+    motor_ = params.optionalString("motor", "");
+    params.describe("encoder", "with a world: the world's encoder it counts (default: the motor's; \"\" none)");
+    encoder_ = params.optionalString("encoder", motor_);
+    params.describe("ticks_per_second", "without a world: encoder counts per second at full command");
+    ticks_per_second_ = params.optionalDouble("ticks_per_second", 2000.0);
+    params.requirePositive("ticks_per_second", ticks_per_second_);
+  }
+
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    motor_ = ctx.params.optionalString("motor", "");
-    encoder_ = ctx.params.optionalString("encoder", motor_);
-    ticks_per_second_ = ctx.params.optionalDouble("ticks_per_second", 2000.0);
-    ctx.params.requirePositive("ticks_per_second", ticks_per_second_);
     if (world_ && (motor_.empty() || !world_->has("motor", motor_)))
       throw std::runtime_error("parameter " + ctx.params.qualified("motor") + " = '" + motor_ + "': no such motor in the world");
     if (world_ && !encoder_.empty() && !world_->has("encoder", encoder_))
       throw std::runtime_error("parameter " + ctx.params.qualified("encoder") + " = '" + encoder_ + "': no such encoder in the world");
     powerOn();
     truth_pub_ = ctx.nh.advertise<std_msgs::Int32>("/sim/" + ctx.name + "/duty", 10);
-    attachBus(ctx, 0x08, 0x77);
+    attachBus(ctx);
     running_ = true;
     thread_ = std::thread([this] { run(); });
   }

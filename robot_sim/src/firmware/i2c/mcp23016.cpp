@@ -1,14 +1,13 @@
 // Emulator of the MCP23016 I/O expander (datasheet register map; pairs toggle: after
 // GP0 comes GP1, after GP1 comes GP0 again).
 //
-// Parameters: ~bus (sim:///PATH), ~address (0x20..0x27),
-//   ~pins         list of up to 16 world switch names, pin i <- pins[i] ("" = unconnected)
-//                 (with a world); a closed switch pulls its pin to ground (reads 0)
-//   ~input_levels without a world: the pin levels, 16 bits, read live (rosparam set works;
-//                 default 0xFFFF: every pin pulled up)
+// Parameters: robot_sim/PARAMETERS.md (MCP23016); with a world a closed switch pulls its pin to
+// ground (reads 0); without one, ~input_levels is followed live.
 // Truth (tests only): /sim/<name>/outputs (std_msgs/UInt16: OLAT on output pins, 20 Hz).
 // Faults: "board_silent", "board_reset" (registers back to power-on: IODIR 0xFFFF, rest 0).
 #include <std_msgs/UInt16.h>
+
+#include <optional>
 
 #include "register_chip.h"
 #include "robot_sim/firmware/firmware_registry.h"
@@ -20,11 +19,20 @@ class MCP23016Firmware : public RegisterChip {
  public:
   ~MCP23016Firmware() override { stop(); }
 
+  void configure(const robot_core::Params& params) override {
+    readBus(params, 0x20, 0x27);
+    params.describe("pins", "with a world: the world's switch on each pin, pin i <- pins[i] (\"\" unconnected; at most 16)");
+    pins_ = params.optionalStringList("pins");
+    if (pins_.size() > 16) params.check("pins", "at most 16 pins");
+    params.describe("input_levels", "without a world: the 16 pin levels, bit i pin i (followed live: rosparam set; "
+                                    "0xFFFF every pin pulled up)");
+    input_levels_ = params.optionalInt("input_levels", 0xFFFF);
+    params.requireInRange("input_levels", input_levels_, 0, 0xFFFF);
+  }
+
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
     pnh_ = ctx.pnh;
-    pins_ = ctx.params.optionalStringList("pins");
-    if (pins_.size() > 16) throw std::runtime_error("parameter " + ctx.params.qualified("pins") + ": at most 16 pins");
     powerOn();
     truth_pub_ = ctx.nh.advertise<std_msgs::UInt16>("/sim/" + ctx.name + "/outputs", 10, true);
     truth_timer_ = ctx.nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) {
@@ -33,7 +41,7 @@ class MCP23016Firmware : public RegisterChip {
       m.data = olat_ & static_cast<uint16_t>(~iodir_);
       truth_pub_.publish(m);
     });
-    attachBus(ctx, 0x20, 0x27);
+    attachBus(ctx);
   }
 
   void stop() override {
@@ -90,8 +98,8 @@ class MCP23016Firmware : public RegisterChip {
 
   uint16_t pinLevels() {
     if (!world_) {
-      int levels = 0xFFFF;
-      pnh_.getParamCached("input_levels", levels);
+      int levels = input_levels_;
+      pnh_->getParamCached("input_levels", levels);
       return static_cast<uint16_t>(levels);
     }
     uint16_t v = 0xFFFF;
@@ -101,7 +109,8 @@ class MCP23016Firmware : public RegisterChip {
   }
 
   World* world_ = nullptr;
-  ros::NodeHandle pnh_;
+  std::optional<ros::NodeHandle> pnh_;  // set by start(): configure() alone needs no ros::init
+  int input_levels_ = 0xFFFF;
   std::vector<std::string> pins_;
   std::mutex mutex_;
   uint16_t olat_ = 0, ipol_ = 0, iodir_ = 0xFFFF, intcap_ = 0, iocon_ = 0;

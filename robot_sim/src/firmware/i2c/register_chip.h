@@ -1,7 +1,7 @@
 // The common shape of an emulated I2C chip: a register pointer set by the first byte of a
 // write, auto-incremented by every byte read or written after it. Chips override the
 // register accessors (and nextPointer() when the pointer does not simply increment).
-// Also reads the common parameters: ~bus (sim:///PATH) and ~address.
+// Also reads the common parameters (bus, address: readBus) and attaches to the bus (attachBus).
 #pragma once
 
 #include <ros/ros.h>
@@ -55,16 +55,18 @@ class RegisterChip : public Firmware, public I2cSlave {
   virtual bool resettable() const { return false; }
   virtual void resetToPowerOn() {}
 
-  // Reads ~bus and ~address (within lo..hi) and attaches to the bus. Throws std::runtime_error.
-  void attachBus(FirmwareContext& ctx, int lo, int hi) {
-    if (!ctx.params.has("bus")) throw std::runtime_error("parameter " + ctx.params.qualified("bus") + " missing: sim:///PATH");
-    const std::string url = ctx.params.requireString("bus");
-    const int address = ctx.params.optionalInt("address", -1);
-    if (address < lo || address > hi)
-      throw std::runtime_error("parameter " + ctx.params.qualified("address") + " must be a 7-bit address in " +
-                               std::to_string(lo) + ".." + std::to_string(hi));
+  // Reads bus and address (the chip's 7-bit addresses: lo..hi), in configure().
+  void readBus(const robot_core::Params& params, int lo, int hi) {
+    params.describe("bus", "the simulated I2C bus the chip hangs on: sim:///PATH (the driver's bus in simulation)");
+    bus_url_ = params.requireString("bus");
+    params.describe("address", "the chip's 7-bit address, as the driver's block says");
+    const int address = params.requireInt("address");
+    params.requireInRange("address", address, lo, hi);
     address_ = static_cast<uint8_t>(address);
-    bus_ = I2cBusServer::attach(simBusPath(url, ctx.params.qualified("bus")), address_, this);
+  }
+  // Attaches to the bus readBus() read, in start(). Throws std::runtime_error.
+  void attachBus(FirmwareContext& ctx) {
+    bus_ = I2cBusServer::attach(simBusPath(bus_url_, ctx.params.qualified("bus")), address_, this);
   }
   void detachBus() {
     if (bus_) bus_->detach(address_);
@@ -73,6 +75,7 @@ class RegisterChip : public Firmware, public I2cSlave {
 
   uint8_t pointer_ = 0;
   uint8_t address_ = 0;
+  std::string bus_url_;
 
  private:
   std::shared_ptr<I2cBusServer> bus_;

@@ -2,15 +2,13 @@
 // command (0x50 inches, 0x51 cm, 0x52 us) measures once and keeps the chip busy for 65 ms:
 // meanwhile it does not drive SDA, so every byte read is 0xFF.
 //
-// Parameters: ~bus (sim:///PATH), ~address (0x70..0x7F),
-//   ~ranger        the world's ranger name (with a world)
-//   ~range         without a world: the distance [m] it measures, read live (default 1.0)
-//   ~conversion_time [s] (default 0.065)
+// Parameters: robot_sim/PARAMETERS.md (SRF02); without a world, ~range is followed live.
 // Truth (tests only): /sim/<name>/range (std_msgs/Float64, the distance of the last ranging [m]).
 // Faults: "board_silent".
 #include <std_msgs/Float64.h>
 
 #include <cmath>
+#include <optional>
 
 #include "register_chip.h"
 #include "robot_sim/firmware/firmware_registry.h"
@@ -22,16 +20,24 @@ class SRF02Firmware : public RegisterChip {
  public:
   ~SRF02Firmware() override { stop(); }
 
+  void configure(const robot_core::Params& params) override {
+    readBus(params, 0x70, 0x7F);
+    params.describe("ranger", "with a world: the world's ranger it measures with");
+    ranger_ = params.optionalString("ranger", "");
+    params.describe("range", "[m] without a world: the distance it measures (followed live: rosparam set)");
+    range_ = params.optionalDouble("range", 1.0);
+    params.describe("conversion_time", "[s] how long a ranging keeps the chip busy (every byte read 0xFF meanwhile)");
+    conversion_ = params.optionalDouble("conversion_time", 0.065);
+    params.requirePositive("conversion_time", conversion_);
+  }
+
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
     pnh_ = ctx.pnh;
-    ranger_ = ctx.params.optionalString("ranger", "");
-    conversion_ = ctx.params.optionalDouble("conversion_time", 0.065);
-    ctx.params.requirePositive("conversion_time", conversion_);
     if (world_ && (ranger_.empty() || !world_->has("ranger", ranger_)))
       throw std::runtime_error("parameter " + ctx.params.qualified("ranger") + " = '" + ranger_ + "': no such ranger in the world");
     truth_pub_ = ctx.nh.advertise<std_msgs::Float64>("/sim/" + ctx.name + "/range", 10, true);
-    attachBus(ctx, 0x70, 0x7F);
+    attachBus(ctx);
   }
 
   void stop() override { detachBus(); }
@@ -52,11 +58,11 @@ class SRF02Firmware : public RegisterChip {
 
   void writeRegister(uint8_t reg, uint8_t value) override {
     if (reg != 0x00 || value < 0x50 || value > 0x52) return;
-    double m = 1.0;
+    double m = range_;
     if (world_)
       m = world_->measureRange(ranger_);
     else
-      pnh_.getParamCached("range", m);
+      pnh_->getParamCached("range", m);
     std_msgs::Float64 t;
     t.data = m;
     truth_pub_.publish(t);
@@ -72,7 +78,8 @@ class SRF02Firmware : public RegisterChip {
 
  private:
   World* world_ = nullptr;
-  ros::NodeHandle pnh_;
+  std::optional<ros::NodeHandle> pnh_;  // set by start(): configure() alone needs no ros::init
+  double range_ = 1.0;
   std::string ranger_;
   double conversion_ = 0.065;
   uint16_t result_ = 0;

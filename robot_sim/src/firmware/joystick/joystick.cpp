@@ -4,7 +4,7 @@
 // event per button and per axis each time a reader connects. Written from linux/joystick.h,
 // not from the driver's decoder.
 //
-// Parameters: ~device (FIFO path to create), ~axes (default 6), ~buttons (default 12).
+// Parameters: robot_sim/PARAMETERS.md (Joystick).
 // Script it (tests): /sim/<name>/axes (std_msgs/Int16MultiArray, raw axis values),
 // /sim/<name>/buttons (std_msgs/UInt8MultiArray, 0/1), service /sim/<name>/plugged
 // (std_srvs/SetBool: false unplugs: the writer closes and the FIFO disappears; true plugs back).
@@ -34,16 +34,24 @@ class JoystickFirmware : public Firmware {
  public:
   ~JoystickFirmware() override { stop(); }
 
-  void start(FirmwareContext& ctx) override {
-    path_ = ctx.params.optionalString("device", "");
-    if (path_.empty() || path_[0] != '/')
-      throw std::runtime_error("parameter " + ctx.params.qualified("device") + " must be an absolute path for the FIFO");
-    const int axes = ctx.params.optionalInt("axes", 6);
-    const int buttons = ctx.params.optionalInt("buttons", 12);
-    if (axes < 0 || axes > 64 || buttons < 0 || buttons > 128)
-      throw std::runtime_error("parameters " + ctx.params.qualified("axes") + " (0..64) / buttons (0..128) out of range");
+  void configure(const robot_core::Params& params) override {
+    params.describe("device", "the FIFO to create, an absolute path: the driver's device in simulation");
+    device_ = params.requireString("device");
+    if (device_.empty() || device_[0] != '/') params.check("device", "must be an absolute path for the FIFO");
+    params.describe("axes", "how many axes the joystick has");
+    const int axes = params.optionalInt("axes", 6);
+    params.requireInRange("axes", axes, 0, 64);
+    params.describe("buttons", "how many buttons it has");
+    const int buttons = params.optionalInt("buttons", 12);
+    params.requireInRange("buttons", buttons, 0, 128);
     axes_.assign(axes, 0);
     buttons_.assign(buttons, 0);
+  }
+
+  // The FIFO is made (and removed by stop()) only here: a checker that only configured an
+  // emulator never touches the running simulation's device.
+  void start(FirmwareContext& ctx) override {
+    path_ = device_;
     for (std::size_t i = 1; i < path_.size(); ++i)
       if (path_[i] == '/') ::mkdir(path_.substr(0, i).c_str(), 0777);
     // A write to a FIFO whose reader just left must fail with EPIPE, not kill the simulator.
@@ -178,6 +186,7 @@ class JoystickFirmware : public Firmware {
   std::mutex mutex_;  // state and writer fd: subscriber callbacks vs the connect thread
   std::vector<int16_t> axes_, buttons_;
   int fd_ = -1;
+  std::string device_;  // configured; path_ once started
   std::atomic<bool> running_{false}, plugged_{true};
   std::thread thread_;
   ros::Subscriber axes_sub_, buttons_sub_;

@@ -3,15 +3,9 @@
 // sends, one line per beacon pulse:  $B<id>,<delta_us>*<XOR of the bytes between $ and *, 2 hex>\r\n
 // (format: hcl_drivers/boards/beacon_protocol.h; this encoder is written independently).
 //
-// Parameters:
-//   ~port            path of the pty link to create (e.g. /tmp/robot_sim/logion/beacons.tty)
-//   ~period          without a world: one message every period [s], ids 0,1,2 in turn (default 0.05);
-//                    delta_us = ~base_delta_us[id] + (sequence number % 1000)
-//   ~base_delta_us   without a world: [3000, 4500, 6000]
-//   ~garbage_every   inject random garbage bytes (never '$') after every Nth message (0 = never)
-//   ~truncate_every  cut every Nth message short (0 = never); the cut message is not counted as sent
-//   ~seed            for the garbage (default 1)
-// With a world: sends World::takeBeaconMeasurements(), polled every 5 ms.
+// Parameters: robot_sim/PARAMETERS.md (BeaconReceiver). Without a world: one message every
+// period, ids 0, 1, 2 in turn, delta_us = base_delta_us[id] + (sequence number % 1000). With a
+// world: sends World::takeBeaconMeasurements(), polled every 5 ms.
 // Truth (tests/bench only): /sim/<name>/sent (std_msgs/Float64MultiArray per valid message:
 // [beacon_id, delta_us, sequence, wall time just before the message was written [s]]),
 // /sim/<name>/injected (std_msgs/UInt32MultiArray: [garbage bytes, truncated messages], latched).
@@ -28,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -41,22 +36,33 @@ class BeaconReceiverFirmware : public Firmware {
  public:
   ~BeaconReceiverFirmware() override { stop(); }
 
+  void configure(const robot_core::Params& params) override {
+    params.describe("port", "the pty link to create, an absolute path: the driver's port in simulation");
+    port_ = params.requireString("port");
+    if (port_.empty() || port_[0] != '/') params.check("port", "must be an absolute path for the pty link");
+    params.describe("period", "[s] without a world: one message every period");
+    period_ = params.optionalDouble("period", 0.05);
+    params.requirePositive("period", period_);
+    params.describe("base_delta_us", "[us] without a world: each beacon's base time of flight (default [3000, 4500, 6000])");
+    base_.clear();
+    std::vector<double> deltas = params.optionalDoubleList("base_delta_us", 1);
+    if (deltas.empty()) deltas = {3000, 4500, 6000};
+    for (double us : deltas) base_.push_back(static_cast<int>(us));
+    params.describe("garbage_every", "random garbage bytes (never '$') after every Nth message; 0 never");
+    garbage_every_ = params.optionalInt("garbage_every", 0);
+    params.requireInRange("garbage_every", garbage_every_, 0, std::numeric_limits<double>::infinity());
+    params.describe("truncate_every", "cut every Nth message short (not counted as sent); 0 never");
+    truncate_every_ = params.optionalInt("truncate_every", 0);
+    params.requireInRange("truncate_every", truncate_every_, 0, std::numeric_limits<double>::infinity());
+    params.describe("seed", "the seed of the garbage bytes");
+    rng_.seed(static_cast<unsigned>(params.optionalInt("seed", 1)));
+  }
+
+  // The pty link is made (and removed by stop()) only here: a checker that only configured an
+  // emulator never touches the running simulation's link.
   void start(FirmwareContext& ctx) override {
     world_ = ctx.world;
-    link_ = ctx.params.optionalString("port", "");
-    if (link_.empty() || link_[0] != '/')
-      throw std::runtime_error("parameter " + ctx.params.qualified("port") + " must be an absolute path for the pty link");
-    period_ = ctx.params.optionalDouble("period", 0.05);
-    ctx.params.requirePositive("period", period_);
-    base_.clear();
-    const std::vector<double> deltas =
-        ctx.params.has("base_delta_us") ? ctx.params.optionalDoubleList("base_delta_us") : std::vector<double>{3000, 4500, 6000};
-    for (double us : deltas) base_.push_back(static_cast<int>(us));
-    if (base_.empty()) throw std::runtime_error("parameter " + ctx.params.qualified("base_delta_us") + " must not be empty");
-    garbage_every_ = ctx.params.optionalInt("garbage_every", 0);
-    truncate_every_ = ctx.params.optionalInt("truncate_every", 0);
-    const int seed = ctx.params.optionalInt("seed", 1);
-    rng_.seed(static_cast<unsigned>(seed));
+    link_ = port_;
 
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
     if (master_ < 0 || ::grantpt(master_) != 0 || ::unlockpt(master_) != 0)
@@ -184,7 +190,7 @@ class BeaconReceiverFirmware : public Firmware {
   }
 
   World* world_ = nullptr;
-  std::string link_;
+  std::string port_, link_;  // configured; link_ once started
   double period_ = 0.05;
   std::vector<int> base_;
   int garbage_every_ = 0, truncate_every_ = 0;

@@ -4,11 +4,11 @@
 
 Every shipped robot's config (config/ROBOT.yaml, with and without its sim overlay) goes through
 the readers the nodes run at start, with no master (robot_core's check_components for the boards
-and the devices, robot_sim's check_sim_config for the world), each asked with --describe what it
+and the devices, robot_sim's check_sim_config for the simulator, its world and its emulators), each asked with --describe what it
 declared of every parameter it read: its type, whether it is required, its default and what is
 allowed, what it means: Params::describe beside the read). One table per board type
 (hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md), the simulator and its world
-(robot_sim/PARAMETERS.md) and the brain, its strategies and triggers (smart_brain/PARAMETERS.md,
+and each emulator type (robot_sim/PARAMETERS.md) and the brain, its strategies and triggers (smart_brain/PARAMETERS.md,
 smart_brain's check_brain_config); the parameters every board or device type reads come first, once.
 The Python nodes whose parameters a launch file sets (NODES: robot_description's) are asked once
 each, `<node> --describe`, one table per node (robot_description/PARAMETERS.md).
@@ -40,6 +40,13 @@ NODES = (
     ('robot_description', ('diagnostics_markers', 'network_guard', 'process_watch', 'table_markers')),
 )
 Declaration = collections.namedtuple('Declaration', 'type required default rule meaning')
+FIRMWARE = 'firmware:'  # check_sim_config's component name of an emulator type: firmware:TYPE
+# The blocks of a robot's config that several packages read (the description, the table, the
+# robot's network): wherever a reader declares them, their table is robot_core's.
+SHARED = ('robot', 'table', 'computer/network')
+SHARED_PACKAGE = 'robot_core'
+HOST = '(host)'  # check_components' component name of the host's own values (hcl_node's, hal_node's)
+HOSTS = {'board': '`hcl:` (hcl_node, the host of the boards)', 'device': '`hal:` (hal_node, the host of the devices)'}
 
 
 def robots():
@@ -83,6 +90,7 @@ def declarations():
     """{table kind: {component type: {name: Declaration}}} over every config; a default that
     differs between configs (one computed from another value) is shown as each."""
     out = {kind: collections.defaultdict(dict) for _, _, _, _, kind in SOURCES}
+    out[SHARED_PACKAGE] = collections.defaultdict(dict)
     for package, nodes in NODES:
         out[package] = collections.defaultdict(dict)
         for name in nodes:
@@ -102,13 +110,14 @@ def declarations():
                 if done.returncode != 0:
                     sys.exit('parameter_tables: %s refused %s:\n%s' % (name, label, done.stderr))
                 for component, pname, d in described(done.stdout):
-                    seen = out[kind][component].get(pname)
+                    target = out[SHARED_PACKAGE if component in SHARED else kind]
+                    seen = target[component].get(pname)
                     if seen and not d.type:  # described, not read, in this config: what another read says
                         continue
                     default = d.default
                     if seen and default not in seen.default.split(' or '):
                         default = seen.default + ' or ' + default
-                    out[kind][component][pname] = d._replace(default=default,
+                    target[component][pname] = d._replace(default=default,
                                                              meaning=d.meaning or (seen.meaning if seen else ''))
     return out
 
@@ -128,11 +137,28 @@ def table(rows):
     return lines
 
 
+def title(kind, component):
+    """The heading of one component's table."""
+    if component == HOST:
+        return HOSTS[kind]
+    if kind == 'robot_description':
+        return component + ' (~)'
+    if kind == 'world':
+        return {'world': 'sim/world', 'simulator': 'sim (the simulator node)'}.get(
+            component, 'sim/firmware/<name>: ' + component[len(FIRMWARE):])
+    if kind == 'brain':
+        return 'brain' if component == 'brain' else 'brain/' + component
+    return component
+
+
 def document(package, kind, components):
     """The text of PACKAGE/PARAMETERS.md."""
     what = {'board': 'board type (the `type:` of an `hcl:` block)', 'device': 'device type (the `type:` of a `hal:` block)',
-            'world': 'the simulator node (`sim:` of a robot\'s sim overlay) and its world (`sim/world`)',
+            'world': 'the simulator node (`sim:` of a robot\'s sim overlay), its world (`sim/world`) and '
+                     'emulator type (the `type:` of a `sim/firmware` block)',
             'robot_description': 'node (its private parameters, set by the robot\'s launch file)',
+            SHARED_PACKAGE: 'block of a robot\'s config that several packages read (`robot:` the description, '
+                            '`table:` the game table, `computer/network` the robot\'s network)',
             'brain': 'the brain node\'s own values (`brain:` of a robot\'s config), each strategy\'s block '
                      '(`brain/<strategy>`) and each trigger\'s (`brain/triggers/<kind>`)'}[kind]
     lines = ['# %s parameters' % package, '',
@@ -146,20 +172,21 @@ def document(package, kind, components):
              '`test_parameter_tables` fails when this file and the code disagree. Per %s.' % what,
              '`<name>`: any name of your own (an entry of a dictionary of named blocks); `x[]/key`: a key of each',
              'dictionary in the list `x`.', '']
-    types = sorted(components)
+    # the component types of one plugin kind, whose common parameters come first, once
+    family = {'board': 'board', 'device': 'device', 'world': 'emulator'}.get(kind)
+    members = sorted(t for t in components if (kind != 'world' or t.startswith(FIRMWARE)) and t != HOST)
     common = {}
-    if kind in ('board', 'device') and len(types) > 1:
-        shared = set.intersection(*(set(components[t]) for t in types))
-        common = {n: components[types[0]][n] for n in shared
-                  if all(components[t][n].type == components[types[0]][n].type for t in types)}
-        lines += ['## Every %s' % kind, ''] + table(common) + ['']
-    for t in types:
-        own = {n: d for n, d in components[t].items() if n not in common}
-        title = {'robot_description': t + ' (~)',
-                 'world': 'sim/world' if t == 'world' else 'sim (the simulator node)',
-                 'brain': 'brain' if t == 'brain' else 'brain/' + t}.get(kind, t)
-        lines += ['## %s' % title, ''] + (table(own) if own else
-                                           ['Only the parameters every %s reads.' % kind]) + ['']
+    if family and len(members) > 1:
+        shared = set.intersection(*(set(components[t]) for t in members))
+        common = {n: components[members[0]][n] for n in shared
+                  if all(components[t][n].type == components[members[0]][n].type for t in members)}
+    for t in sorted(components, key=lambda t: (t in members, t)):
+        if common and t == members[0]:
+            lines += ['## Every %s' % family + (' (`sim/firmware/<name>`)' if kind == 'world' else ''), ''] + \
+                table(common) + ['']
+        own = {n: d for n, d in components[t].items() if n not in common or t not in members}
+        lines += ['## %s' % title(kind, t), ''] + (table(own) if own else
+                                           ['Only the parameters every %s reads.' % family]) + ['']
     return '\n'.join(lines).rstrip() + '\n'
 
 
@@ -169,7 +196,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     found = declarations()
     stale = []
-    for package, kind in [(package, kind) for package, _, _, _, kind in SOURCES] + [(p, p) for p, _ in NODES]:
+    tables = [(package, kind) for package, _, _, _, kind in SOURCES] + [(p, p) for p, _ in NODES]
+    for package, kind in tables + [(SHARED_PACKAGE, SHARED_PACKAGE)]:
         path = os.path.join(ROOT, package, 'PARAMETERS.md')
         text = document(package, kind, found[kind])
         old = open(path).read() if os.path.exists(path) else None
