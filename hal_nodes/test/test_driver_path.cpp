@@ -96,8 +96,8 @@ PathFollowerConfig logionPathConfig() {
 // checkpoint (2.5, 1.5) the curve leaves almost backwards: a bend of ~2 cm radius taken at ~3 cm/s.
 // Over a range of actuation lags around Logion's (HBmotor loop over I2C, motor time constant
 // ~0.08 s) the robot stays within 22 mm of the curve. With heading feedback proportional to the
-// speed only (heading_correction_speed 0) the heading lagged the tangent by 20-30 deg at that
-// checkpoint and the way out ran 23-30 mm off the curve for 8 of these 16 lags (now 18.3 mm at most).
+// speed only (heading_correction_speed 0) the heading lags the tangent at that checkpoint and the
+// way out runs off the curve for many of these lags.
 TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
   const AutopilotConfig cfg = logionConfig();
   const PathFollowerConfig pcfg = logionPathConfig();
@@ -116,9 +116,9 @@ TEST(PathFollower, SharpBendFollowedWhateverTheActuationLag) {
 }
 
 // Logion's homologation path (config/logion.yaml): out of the start zone, down to (0.8, 0.4)
-// over a last segment too short to take back the offset from the bend before it. The robot
-// reached the end along the tangent 11 mm beside it and stood there for ever (the brain's 25 s
-// timeout cancelled it) for 14 of these 16 lags; the Autopilot now closes that gap.
+// over a last segment too short to take back the offset from the bend before it. The follower
+// alone reaches the end along the tangent but beside it and stands there for ever (until the
+// brain's timeout cancels it); the Autopilot must close that gap.
 TEST(PathFollower, AnEndReachedBesideItIsStillReached) {
   const std::vector<Checkpoint> cps = {{0.5, 1.2}, {0.8, 0.7}, {0.8, 0.4}};
   for (int delay = 1; delay <= 4; ++delay) {

@@ -101,7 +101,7 @@ TEST(Sdo, DecodesEveryResponseKind) {
   EXPECT_EQ(r->value, 20u);
   EXPECT_EQ(r->index, 0x1008);
   EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0x60, 0, 0, 0})));           // wrong length
-  // (0x20 was listed here as "a request": from the server it is a download segment acknowledge, see SdoSegmented.)
+  // (Not 0x20: from the server it is a download segment acknowledge, see SdoSegmented.)
   EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0xA0, 0, 0, 0, 0, 0, 0, 0})));  // block upload: not supported
   EXPECT_FALSE(decodeSdoResponse(sdoReply(1, {0xC0, 0, 0, 0, 0, 0, 0, 0})));  // block download: not supported
   EXPECT_FALSE(decodeSdoResponse(CanFrame::make(0x601, {0x60, 0, 0, 0, 0, 0, 0, 0})));

@@ -1,7 +1,7 @@
 // The real-time factor of "as fast as the machine goes" (~real_time_factor 0): the simulator
 // must not run ahead of the robot it simulates. A world stepping flat out takes a whole core and
 // starves the boards' drivers, HAL and the brain, which then miss their rates and reply windows
-// (at factor 0 without this: every board STALE, the robot never ready). So the simulator paces
+// (every board goes STALE and the robot is never ready). So the simulator paces
 // at the factor that keeps the machine just short of saturation: once a second it reads the
 // machine's busy share from /proc/stat and lowers the factor by 15 % above `high`; below `low`
 // it raises it by 15 %, or in proportion to the idle share when the machine is far from busy (at

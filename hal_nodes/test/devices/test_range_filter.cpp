@@ -98,11 +98,10 @@ TEST(RangeFilter, ResetForgetsOldReadings) {
 }
 
 // An SRF02 sweeping along a wall while the robot turns (front_left of the simulated Logion
-// leaving its start zone, 10 Hz): every reading is real. The median of 5 reported each range
-// two readings late (0.36 m when the sensor read 0.74 m), and the driver took the
-// difference for an obstacle the border did not explain. Now the output trails the reading
-// by less than the last reading's change (the noise smoothing, smoothing 0.5), never by two
-// readings; a change beyond `step` passes exactly.
+// leaving its start zone, 10 Hz): every reading is real. A median of 5 reports each range
+// two readings late, and the driver takes the difference for an obstacle the border does not
+// explain. The output must trail the reading by less than the last reading's change (the noise
+// smoothing, smoothing 0.5), never by two readings; a change beyond `step` passes exactly.
 TEST(RangeFilter, SweepAlongAWallIsNotDelayed) {
   RangeFilter f;
   const double sweep[] = {0.21, 0.21, 0.21, 0.24, 0.30, 0.36, 0.52, 0.74, 1.02, 1.34};

@@ -5,8 +5,8 @@
 // v_h (`heading_correction_speed`) keeps the heading feedback alive when the robot is slow: in
 // a sharp bend (a checkpoint the curve leaves almost backwards) the bend's speed limit is a few
 // cm/s, the motor lag leaves the heading behind the tangent, and with a gain proportional to v
-// that error was still there when the robot sped up on the way out, which carried it 20-30 mm
-// off the curve. With the floor, the robot turns onto the tangent on the spot.
+// that error is still there when the robot speeds up on the way out, which carries it off the
+// curve. With the floor, the robot turns onto the tangent on the spot.
 // kappa is taken `lookahead_time` ahead along the curve (at the current speed): the wheels
 // answer a command only after the motor and pipeline lag, so steering for the bend that is
 // reached then keeps the robot on the curve where the curvature changes (bend entries/exits).
@@ -16,7 +16,7 @@
 // A robot that reaches the end along the tangent but more than `tolerance` beside it cannot
 // close that by driving along the tangent (the lateral term needs distance to act): the
 // Autopilot then takes it onto the end point (turn, creep, turn back to the end's heading), as
-// a goto would. Without that the follower stood 11 mm beside a path's end for ever.
+// a goto would. Without that the follower would stand beside a path's end for ever.
 // Pure computation, tested without ROS.
 #pragma once
 

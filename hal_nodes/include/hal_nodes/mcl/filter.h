@@ -56,15 +56,15 @@ struct FilterConfig {
   double roughen_theta = 0.02; // [rad]
   // Position jitter at every resampling, recovering or not. Resampling a robot that stands still
   // only copies particles (no motion noise spreads them), and a cloud of copies of one pose cannot
-  // follow the beacons to a pose it never held: a push of a few centimetres stayed uncorrected.
+  // follow the beacons to a pose it never held: a push of a few centimetres would stay uncorrected.
   // Position only: standing still, the beacons pin the position but not the heading.
   double jitter_xy = 0.002;    // [m]
   double quality_tolerance = 0.05;  // [m] "right" means within this of the truth
   // Probability of a change between tracking and not tracking per measurement with evidence
   // (kidnap, slip): keeps the tracking probability from saturating, so it can fall quickly.
   // 1e-4: two garbage ranges in a row (outlier_probability each) leave it above 0.9, four
-  // inconsistent ones after a kidnap take it under 0.1. 0.01 let two garbage ranges in a row
-  // (seen on the simulated Logion) drop it to 0.19 and abort the driver's goal.
+  // inconsistent ones after a kidnap take it under 0.1. A much larger hazard lets two garbage
+  // ranges in a row drop it far enough to abort the driver's goal.
   double track_hazard = 1e-4;
   // Kidnap: lost when, over the last contradiction_window seconds of measurements, at least
   // contradiction_count measurements came and their median normalized innovation (input.h) is
@@ -86,10 +86,10 @@ struct FilterConfig {
   // After a reset whose headings were drawn uniformly (beacon ranges give positions only), the
   // heading is unknown until the weighted set's heading spread falls below heading_known_std
   // (motion, or a heading input, told the headings apart). Meanwhile, until the robot first
-  // moves or a heading input measures, each resampling redraws every heading uniformly (standing still, nothing has told them
-  // apart, and copies drifting to one heading made a confident wrong estimate); the set is
-  // roughened as while recovering; and "found" is judged on the position alone (the driver may
-  // move, and moving resolves the heading). 0 disables.
+  // moves or a heading input measures, each resampling redraws every heading uniformly (standing
+  // still, nothing has told them apart, and copies drifting to one heading would make a confident
+  // wrong estimate); the set is roughened as while recovering; and "found" is judged on the
+  // position alone (the driver may move, and moving resolves the heading). 0 disables.
   double heading_known_std = 0.1;      // [rad]
   // The estimate is the heaviest cluster's (clusters.h) once the set spreads wider than one cell.
   double cluster_bin_xy = 0.10;    // [m]

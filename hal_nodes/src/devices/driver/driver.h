@@ -140,10 +140,10 @@ class Driver : public Effector {
   // The map pose, or false with the result code and reason when localization is not usable.
   bool mapPose(driver::Pose2D* pose, uint8_t* code, std::string* why);
 
-  // The newest /odom is already some tens of ms old when a step runs (more on a loaded machine:
-  // p99 40-110 ms at load 10-14 in the simulator); at 0.2 m/s on arrival that lag alone made the
-  // robot overshoot the goal by 20+ mm. With ~predict_pose, the pose is carried from the odometry
-  // stamp to now with the odometry's own twist (bounded by ~max_odom_age via fresh()).
+  // The newest /odom is already some tens of ms old when a step runs (more on a loaded machine),
+  // and arriving at speed that lag alone makes the robot overshoot the goal. With ~predict_pose,
+  // the pose is carried from the odometry stamp to now with the odometry's own twist (bounded by
+  // ~max_odom_age via fresh()).
   void predictToNow(const nav_msgs::Odometry& o, driver::Pose2D* pose) const;
   bool odomPose(driver::Pose2D* pose);
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& msg);

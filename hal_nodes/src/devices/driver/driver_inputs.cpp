@@ -48,10 +48,7 @@ bool Driver::mapPose(Pose2D* pose, uint8_t* code, std::string* why) {
   return true;
 }
 
-// The newest /odom is already some tens of ms old when a step runs (more on a loaded machine:
-// p99 40-110 ms at load 10-14 in the simulator); at 0.2 m/s on arrival that lag alone made the
-// robot overshoot the goal by 20+ mm. With ~predict_pose, the pose is carried from the odometry
-// stamp to now with the odometry's own twist (bounded by ~max_odom_age via fresh()).
+// Carries the odometry pose to now (why: at the declaration in driver.h).
 void Driver::predictToNow(const nav_msgs::Odometry& o, Pose2D* pose) const {
   if (!settings_.predict_pose) return;
   const double dt = (ros::Time::now() - o.header.stamp).toSec();

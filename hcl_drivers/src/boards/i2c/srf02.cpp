@@ -10,8 +10,8 @@
 // configure() (the table: hcl_drivers/PARAMETERS.md, make docs).
 // Topics: ~range (sensor_msgs/Range, latched: metres; +inf when the SRF02 reports no echo;
 //         stamped at the ranging command, when the ping went out: the echo describes the world
-//         then, not when it is read a period later. Stamped at the read, a Logion turning at
-//         1.3 rad/s had its sonars 0.13 rad off and the driver took border echoes for the opponent),
+//         then, not when it is read a period later. Stamped at the read, a turning robot's sonars
+//         are placed a period's turn off, and the driver takes border echoes for the opponent),
 //         ~state (hcl_drivers/SRF02State, latched).
 #include <hcl_drivers/SRF02State.h>
 #include <sensor_msgs/Range.h>

@@ -18,8 +18,8 @@ JITTER = 3.0           # seconds, so two faults start at least SPACING - JITTER 
 FIRST, LAST = 8.0, 10.0  # [s] no fault in the first FIRST and last LAST seconds of the match
 # [s, wall] SIGSTOP of hal_node: a stall by process_watch's rule whatever its loop's phase. It
 # names two probes of 0.2 s in a row unanswered, with its other nodes' probes and its 0.1 s
-# period in between: a 0.5 s stop was sometimes answered at the second probe on a busy machine
-# (then only a WARN "slow to answer"), and a rule on the watcher's phase is no rule.
+# period in between: a stop only just longer than that can still be answered at the second probe
+# on a busy machine (then only a WARN "slow to answer"), and a rule on the watcher's phase is no rule.
 STALL = 1.0
 
 

@@ -39,8 +39,8 @@ SETTLED = 1.0             # [s] the error stays below RECOVERED_M this long to c
 OK, ERROR = 0, 2
 
 RECORDER_BUFFER = 1.0     # [s] a recorder killed -9 loses the chunk it had not written yet
-RECORDER_RESTART = 10.0   # [s, wall] a respawned recorder subscribes again to ~90 topics: one took 6.2 s
-                          # after the recorder answered, on a loaded machine
+RECORDER_RESTART = 10.0   # [s, wall] a respawned recorder subscribes again to every recorded topic, which
+                          # takes seconds after the recorder answers on a loaded machine
 
 #: Which process publishes a topic (first matching prefix and suffix); None: several, or the simulator.
 #: The HAL commands the boards on /hcl/<board>/...; the emulated camera serves frames to the HCL,

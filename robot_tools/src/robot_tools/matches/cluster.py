@@ -10,8 +10,8 @@ bag included, is written where a run without a cluster writes it.
 
 Without an address, a LocalCluster sized to the machine: one single-threaded worker process per
 CORES_PER_MATCH cores. A match is five processes (simulator, HCL, HAL, brain, recorder): at real
-time they keep 1.3 cores busy, and at factor 0 they take what they get. On 2 cores, 2 matches
-one after the other took 72 s, the same 2 at once 97 s.
+time they keep more than one core busy, and at factor 0 they take what they get, so matches
+crowded onto fewer cores finish later together than one after the other.
 
 A worker that dies mid-match (its process killed, its machine gone) costs that match one retry
 on another worker: the scheduler reruns a task whose worker died, up to its `allowed-failures`

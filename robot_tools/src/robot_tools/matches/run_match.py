@@ -19,7 +19,7 @@ they are joined into the one bag (robot_tools.bag_parts) before the report.
 
 A robot whose launch has `can_bus`, `camera_port` or `sim_dir` arguments gets channels of its
 own (free ports, a fresh directory): two simulations on one CAN bus answer each other's drivers
-(a second simulated robot on the machine, e.g. a test, made the start cord read open), and a
+(a second simulated robot on the machine, e.g. a test, can make the start cord read open), and a
 taken camera port stops the simulator.
 """
 import argparse
