@@ -134,7 +134,7 @@ class LostTest(unittest.TestCase):
 
     def test_the_allowance_after_a_restart_is_wall_time(self):
         # Back at 31 s, silent in the bag until 40 s: 9 s simulated. At real time that is more than
-        # RESTART_ALLOWANCE; at a factor of 3 the recorder's reconnection took 3 s of wall time.
+        # RESTART_ALLOWANCE; at a factor of 3 the recorder's reconnection takes seconds of wall time.
         m = FakeMatch({'/odom': self.stream(0, 90, gap=(30, 40))})
         kill = fault('kill', '/hal', 30.0, 31.0)
         self.assertEqual(len(inv.nothing_lost(m, [kill], 0.0, 90.0, 0.0, {})), 1)
@@ -221,9 +221,9 @@ class EndAndRecoveryTest(unittest.TestCase):
         v = inv.robot_recovers(m, [fault('kidnap', start=10.0, end=10.0)], 90.0, 0.0)
         self.assertIn('not recovered', v[0][1])
 
-    # A Logion chaos match: /brain killed 48.2-57.8 s, the recorder killed 56.7 s and back 62.5 s;
-    # the bag holds no pose from 56.6 s to 67.0 s, then poses within 2 cm. It was flagged "not
-    # recovered ... back 9.2 s after; worst nan m": the bag could not tell.
+    # A chaos match where the recorder is down while the robot recovers (/brain killed 48.2-57.8 s,
+    # the recorder killed 56.7 s and back 62.5 s): the bag holds no pose from 56.6 s to 67.0 s, then
+    # poses within 2 cm. The bag cannot tell whether it recovered in the gap.
     def recorder_gap(self, error_after):
         truth = [(t / 10.0, t / 100.0, 1.0, 0.0) for t in range(0, 900)]
         estimate = [(t, x + error_after(t), y, a) for t, x, y, a in truth[1:-1] if not 56.6 < t < 67.0]
