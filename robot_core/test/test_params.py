@@ -71,6 +71,23 @@ class ParamsTest(unittest.TestCase):
         self.assertEqual(p.unasked(), ["/brain/match/start = 'cord'", '/brain/typo = 3'])
         self.assertEqual(p.block('match').unasked(), ["/brain/match/start = 'cord'"])
 
+    def test_a_dictionary_of_named_blocks_is_declared_by_name(self):
+        p = self.params({'zones': {'north': {'x': 1.0, 'typo': 2}, 'south': {}}})
+        names = p.block_names('zones')
+        self.assertEqual(names, ['north', 'south'])  # the config's order
+        for name in names:
+            p.block('zones').block(name).value('x', 0.0, float, meaning='[m] where')
+        d = p.declarations()
+        self.assertEqual(sorted(d), ['zones', 'zones/<name>/x'])
+        self.assertEqual(d['zones'].type, 'dictionary of named blocks')
+        self.assertEqual(d['zones/<name>/x'], ('number', False, '0.0', '', '[m] where'))
+        self.assertEqual(p.unasked(), ['/brain/zones/north/typo = 2'])
+        for tree, message in (({'zones': [1]}, 'parameter /brain/zones = [1]: must be a dictionary of named blocks'),
+                              ({'zones': {'east': 3}}, 'parameter /brain/zones/east = 3: must be a dictionary')):
+            with self.assertRaises(ParameterError) as e:
+                self.params(tree).block_names('zones')
+            self.assertEqual(str(e.exception), message)
+
 
 if __name__ == '__main__':
     unittest.main()

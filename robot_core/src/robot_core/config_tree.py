@@ -1,6 +1,7 @@
 """A robot's configuration as the launch loads it: one YAML file over another, as `rosparam load`
 merges them (a dictionary updates key by key, any other value replaces). One answer for the
 config checker, the URDF writer and the match runner."""
+from robot_core.robot_geometry import RobotGeometry
 
 
 def merged(base, over):
@@ -19,23 +20,25 @@ def simulated_robot(tree):
     description (/robot) where the simulated robot sets none of its own: radius, footprint, wheel_radius,
     wheel_base (/robot/track_width), the driven wheels' encoders' ticks_per_rev
     (/robot/encoder_ticks_per_rev) and each ranger's mount (the link ranger_NAME's [x, y, yaw]).
-    The twin of robot_sim's parseRobot; {} when the config simulates no robot."""
+    The twin of robot_sim's parseRobot; {} when the config simulates no robot; ParameterError for
+    a bad description value (RobotGeometry)."""
     world = ((tree.get('sim') or {}).get('world') or {})
     if not isinstance(world.get('robot'), dict):
         return {}
     robot = dict(world['robot'])
     described = tree.get('robot') or {}
-    for key, source in (('radius', 'radius'), ('footprint', 'footprint'), ('wheel_radius', 'wheel_radius'),
-                        ('wheel_base', 'track_width')):
-        if key not in robot and source in described:
-            robot[key] = described[source]
+    geometry = RobotGeometry.of_config(tree)
+    for key, value in (('radius', geometry.radius), ('footprint', described.get('footprint')),
+                       ('wheel_radius', geometry.wheel_radius), ('wheel_base', geometry.track_width)):
+        if key not in robot and value is not None:
+            robot[key] = value
     motors = robot.get('motors') or {}
     encoders = {}
     for name, e in (robot.get('encoders') or {}).items():
         e = dict(e or {})
         driven = (motors.get(e.get('motor')) or {}).get('drive')
-        if driven and 'ticks_per_rev' not in e and 'encoder_ticks_per_rev' in described:
-            e['ticks_per_rev'] = described['encoder_ticks_per_rev']
+        if driven and 'ticks_per_rev' not in e and geometry.encoder_ticks_per_rev is not None:
+            e['ticks_per_rev'] = geometry.encoder_ticks_per_rev
         encoders[name] = e
     if encoders:
         robot['encoders'] = encoders

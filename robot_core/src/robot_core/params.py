@@ -9,6 +9,7 @@ the parameter, and remembers what was asked. From that memory come the brain's p
     rate = params.value('rate', 10.0, float, rule='> 0', meaning='[Hz] decision loop rate')
     block = params.block('match')              # '~match', sharing what is asked
     raw = block('start_topic', '/hal/hmi/input')  # as it is, typed by its default
+    names = params.block_names('zones')        # a dictionary of named blocks: the table says zones/<name>/..
 
 The same reader runs on a YAML tree with no master (Params(tree, '/brain')), which is how the
 config check and the table generator see a config before any node starts.
@@ -56,6 +57,7 @@ class _Record(object):
     def __init__(self):
         self.asked = set()      # qualified names (a dictionary read whole counts as asked throughout)
         self.blocks = set()     # dictionaries read key by key (block())
+        self.block_maps = set()  # dictionaries of named blocks (block_names()): the table says <name>
         self.unused = set()     # whole subtrees left alone on purpose
         self.describing = False  # a reader run for its declarations: a missing required value is None
         self.declared = {}      # qualified name -> Declaration
@@ -89,6 +91,25 @@ class Params(object):
         if value is not None and not isinstance(value, dict):
             raise ParameterError('parameter %s = %r: must be a dictionary' % (self.qualified(key), value))
         return Params(value or {}, self.qualified(key), self._record)
+
+    def block_names(self, key):
+        """The names of the dictionaries under the dictionary `key` (links: {camera_link: {..}, ..}),
+        in the config's order; none when absent. What is read under them is declared
+        `key/<name>/...`, as the C++ Params::blockNames."""
+        self._record.block_maps.add(self.qualified(key))
+        self._record.blocks.add(self.qualified(key))
+        self._declare(key, 'dictionary of named blocks', {}, '')
+        self._record.asked.discard(self.qualified(key))  # read entry by entry: a key no reader knows shows
+        value = self._tree.get(key)
+        if value is None:
+            return []
+        if not isinstance(value, dict):
+            raise ParameterError('parameter %s = %r: must be a dictionary of named blocks'
+                                 % (self.qualified(key), value))
+        for name, entry in value.items():
+            if not isinstance(entry, dict):
+                raise ParameterError('parameter %s/%s = %r: must be a dictionary' % (self.qualified(key), name, entry))
+        return list(value)
 
     def __call__(self, key, default=None):
         """The value as the config gives it (no conversion), typed in the table by its default."""
@@ -145,8 +166,17 @@ class Params(object):
     def declarations(self):
         """{name relative to this block: Declaration} of everything read under it."""
         prefix = self.ns + '/'
-        return {name[len(prefix):]: d for name, d in sorted(self._record.declared.items())
-                if name.startswith(prefix)}
+        out = {}
+        for name, d in sorted(self._record.declared.items()):
+            if not name.startswith(prefix):
+                continue
+            general = self._general(name)[len(prefix):]
+            seen = out.get(general)
+            if seen is None:
+                out[general] = d
+            else:  # one more entry of a dictionary of named blocks: the first read's type, a meaning from any
+                out[general] = (seen if seen.type else d)._replace(meaning=seen.meaning or d.meaning)
+        return out
 
     def unasked(self):
         """'<qualified name> = <value>' of every value under this block no reader asked for."""
@@ -162,6 +192,15 @@ class Params(object):
         self._record.declared[name] = Declaration(type_, default is REQUIRED,
                                                   '' if default is REQUIRED else _written(default),
                                                   rule, seen.meaning if seen else '')
+
+    def _general(self, name):
+        """`name` with the entry of each dictionary of named blocks it is under written <name>."""
+        for block in sorted(self._record.block_maps):
+            head = block + '/'
+            rest = name[len(head):]
+            if name.startswith(head) and '/' in rest:
+                name = head + '<name>' + rest[rest.index('/'):]
+        return name
 
     def _convert(self, key, value, kind):
         if kind is None:

@@ -17,9 +17,18 @@ from the parent (REP-103), and what rviz draws, if anything: `box` [x, y, z], `c
 [radius, length], `sphere` radius, at `visual_at` in the link, in `material`. A `base_link`
 entry draws base_link itself (the skeleton's box). Joints are fixed (nothing publishes
 /joint_states), named after the link without its _link/_frame ending. base_footprint sits on
-base_link (REP-105's footprint: base_link is on the floor already)."""
+base_link (REP-105's footprint: base_link is on the floor already).
+
+Every key is read through robot_core.params (radius, wheel_radius, track_width through
+RobotGeometry, as the devices read them): a bad value is one ParameterError line naming it
+(`parameter /robot/links/lamp/at[1] = 'up': must be a number`), and what the reader declared is the
+robot table of the parameter tables (`robot_urdf CONFIG --describe`)."""
+import collections
 import math
 from xml.sax.saxutils import quoteattr
+
+from robot_core.params import REQUIRED, ParameterError, Params
+from robot_core.robot_geometry import RobotGeometry
 
 # Colours every robot may use; robot/materials adds to them or changes them.
 PALETTE = {
@@ -29,23 +38,44 @@ PALETTE = {
     'part': [0.70, 0.70, 0.70],
 }
 WHEEL_WIDTH = 0.02  # [m] drawn only
+AT = '[x, y, z] or [x, y, z, roll, pitch, yaw]'
+
+# What a bad robot block raises: callers and tests that catch GeometryError catch ParameterError.
+GeometryError = ParameterError
+
+# What rviz draws of a link: its <geometry> (None: nothing), where in the link, in which material.
+Drawing = collections.namedtuple('Drawing', 'geometry visual_at material collision')
+NOTHING = Drawing(None, None, 'part', False)
 
 
-class GeometryError(ValueError):
-    """A robot block the URDF cannot be written from: the message names the parameter."""
+def _checked(name, values, sizes, positive=False, within=None):
+    """`values` as floats when it is a list of `sizes` finite numbers (each > 0 where `positive`,
+    in [lo, hi] for `within`); else ParameterError naming `name`, or `name[i]` for one element."""
+    if not isinstance(values, list) or len(values) not in sizes:
+        raise ParameterError('parameter %s = %r: must be a list of %s numbers' % (
+            name, values, ' or '.join(str(s) for s in sizes)))
+    out = []
+    for i, x in enumerate(values):
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+            raise ParameterError('parameter %s[%d] = %r: must be a number' % (name, i, x))
+        if positive and not x > 0:
+            raise ParameterError('parameter %s[%d] = %r: must be > 0' % (name, i, x))
+        if within and not within[0] <= x <= within[1]:
+            raise ParameterError('parameter %s[%d] = %r: must be in %s .. %s' % (name, i, x, within[0], within[1]))
+        out.append(float(x))
+    return out
 
 
-def _number(v, name):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise GeometryError('parameter /robot/%s = %r: must be a number' % (name, v))
-    return float(v)
+def _numbers(params, key, sizes, default, rule, meaning, positive=False):
+    """The list `key` of `sizes` numbers (_checked), or `default` when absent."""
+    values = params.value(key, default, list, rule=rule, meaning=meaning)
+    return None if values is None else _checked(params.qualified(key), values, sizes, positive)
 
 
-def _numbers(v, sizes, name):
-    if not isinstance(v, list) or len(v) not in sizes:
-        raise GeometryError('parameter /robot/%s = %r: must be a list of %s numbers' % (
-            name, v, ' or '.join(str(s) for s in sizes)))
-    return [_number(x, '%s[%d]' % (name, i)) for i, x in enumerate(v)]
+def _number(params, key, default, rule, meaning, ok):
+    """A finite number that `ok` accepts, the rule the table writes `rule`."""
+    return params.value(key, default, float, rule=rule, meaning=meaning,
+                        check=lambda v: '' if math.isfinite(v) and ok(v) else 'must be a number ' + rule)
 
 
 def _f(x):
@@ -62,37 +92,50 @@ def _origin(values, indent):
     return '%s<origin%s/>' % (indent, attrs)
 
 
-def _geometry(spec, name):
-    if 'box' in spec:
-        return '<box size="%s"/>' % ' '.join(_f(v) for v in _numbers(spec['box'], (3,), name + '/box'))
-    if 'cylinder' in spec:
-        r, length = _numbers(spec['cylinder'], (2,), name + '/cylinder')
-        return '<cylinder radius="%s" length="%s"/>' % (_f(r), _f(length))
-    if 'sphere' in spec:
-        return '<sphere radius="%s"/>' % _f(_number(spec['sphere'], name + '/sphere'))
-    return None
+def _box(size):
+    return '<box size="%s"/>' % ' '.join(_f(v) for v in size)
 
 
-def _visual(spec, name, materials, collision=False):
-    """The <visual> (and <collision>) lines of a link spec, none when it draws nothing."""
-    geometry = _geometry(spec, name)
-    if geometry is None:
+def _cylinder(radius, length):
+    return '<cylinder radius="%s" length="%s"/>' % (_f(radius), _f(length))
+
+
+def _sphere(radius):
+    return '<sphere radius="%s"/>' % _f(radius)
+
+
+def _drawing(link, materials):
+    """What a link of robot/links draws: its box, else its cylinder, else its sphere, if any."""
+    box = _numbers(link, 'box', (3,), None, '[x, y, z], each > 0', '[m] draws a box of this size', positive=True)
+    cylinder = _numbers(link, 'cylinder', (2,), None, '[radius, length], each > 0',
+                        "[m] draws a cylinder along the link's z (when it has no box)", positive=True)
+    sphere = _number(link, 'sphere', None, '> 0', '[m] draws a sphere of this radius (when it has no box, no cylinder)',
+                     lambda v: v > 0)
+    visual_at = _numbers(link, 'visual_at', (3, 6), None, AT,
+                         "[m, rad] where the drawing sits in the link (default: at the link's origin)")
+    material = link.value('material', 'part', str, rule='a name of the palette or of robot/materials',
+                          check=lambda m: '' if m in materials else 'allowed values: ' + ', '.join(sorted(materials)),
+                          meaning="the drawing's colour: body, black, sensor, part or a name of robot/materials")
+    collision = link.value('collision', False, bool, meaning="true: the drawing is the link's collision shape too")
+    geometry = _box(box) if box else _cylinder(*cylinder) if cylinder else _sphere(sphere) if sphere else None
+    return Drawing(geometry, visual_at, material, collision)
+
+
+def _visual(drawing):
+    """The <visual> (and <collision>) lines of a link, none when it draws nothing."""
+    if drawing.geometry is None:
         return []
-    material = spec.get('material', 'part')
-    if material not in materials:
-        raise GeometryError('parameter /robot/%s/material = %r: allowed values: %s' % (
-            name, material, ', '.join(sorted(materials))))
-    at = _numbers(spec['visual_at'], (3, 6), name + '/visual_at') if 'visual_at' in spec else None
+    at = drawing.visual_at
     lines = ['    <visual>']
     if at:
         lines.append(_origin(at, '      '))
-    lines += ['      <geometry>%s</geometry>' % geometry, '      <material name=%s/>' % quoteattr(material),
-              '    </visual>']
-    if collision:
+    lines += ['      <geometry>%s</geometry>' % drawing.geometry,
+              '      <material name=%s/>' % quoteattr(drawing.material), '    </visual>']
+    if drawing.collision:
         lines.append('    <collision>')
         if at:
             lines.append(_origin(at, '      '))
-        lines += ['      <geometry>%s</geometry>' % geometry, '    </collision>']
+        lines += ['      <geometry>%s</geometry>' % drawing.geometry, '    </collision>']
     return lines
 
 
@@ -112,64 +155,75 @@ def _joint(child, parent, at):
             _origin(at, '    '), '  </joint>']
 
 
-def links_of(robot):
-    """[(link, parent or None, at, spec)] in URDF order: base_link, base_footprint, the body, the
-    driven wheels, then robot/links."""
-    out = [('base_link', None, None, dict((robot.get('links') or {}).get('base_link') or {})),
-           ('base_footprint', 'base_link', [0.0, 0.0, 0.0], {})]
-    if 'radius' in robot:
-        radius = _number(robot['radius'], 'radius')
-        height = _number(robot.get('height', 0.26), 'height')
-        clearance = _number(robot.get('clearance', 0.03), 'clearance')
+def _materials(robot):
+    """{name: rgb} of the palette with robot/materials over it."""
+    given = robot.value('materials', {}, dict, rule='name: [r, g, b], each 0 .. 1',
+                        meaning='colours by name [r, g, b] over the palette (body, black, sensor, part)')
+    materials = dict(PALETTE)
+    for name, rgb in given.items():
+        materials[name] = _checked(robot.qualified('materials/%s' % name), rgb, (3,), within=(0.0, 1.0))
+    return materials
+
+
+def links_of(robot, materials):
+    """[(link, parent or None, at, Drawing)] in URDF order of the Params of a robot block: base_link,
+    base_footprint, the body, the driven wheels, then robot/links."""
+    geometry = RobotGeometry.read(robot)
+    height = _number(robot, 'height', 0.26, '> 0', "[m] the body's height (the chassis cylinder, drawn with radius)",
+                     lambda v: v > 0)
+    clearance = _number(robot, 'clearance', 0.03, '>= 0', "[m] the body's underside above the floor", lambda v: v >= 0)
+    width = _number(robot, 'wheel_width', WHEEL_WIDTH, '> 0', "[m] the driven wheels' width (drawn only)",
+                    lambda v: v > 0)
+    names = robot.block_names('links')
+    block = robot.block('links')
+    robot.describe('links', 'every link but the body and the driven wheels, by name, in order '
+                            '(base_link: what base_link itself draws)')
+    base = _drawing(block.block('base_link'), materials) if 'base_link' in names else NOTHING
+    out = [('base_link', None, None, base), ('base_footprint', 'base_link', [0.0, 0.0, 0.0], NOTHING)]
+    if geometry.radius is not None:
         out.append(('chassis_link', 'base_link', [0.0, 0.0, 0.0],
-                    {'cylinder': [radius, height], 'visual_at': [0.0, 0.0, clearance + height / 2.0],
-                     'material': 'body', 'collision': True}))
-    if 'wheel_radius' in robot and 'track_width' in robot:
-        wheel = _number(robot['wheel_radius'], 'wheel_radius')
-        half = _number(robot['track_width'], 'track_width') / 2.0
-        width = _number(robot.get('wheel_width', WHEEL_WIDTH), 'wheel_width')
+                    Drawing(_cylinder(geometry.radius, height), [0.0, 0.0, clearance + height / 2.0], 'body', True)))
+    if geometry.wheel_radius is not None and geometry.track_width is not None:
+        wheel, half = geometry.wheel_radius, geometry.track_width / 2.0
         for side, y in (('left', half), ('right', -half)):
             out.append(('%s_wheel_link' % side, 'base_link', [0.0, y, wheel],
-                        {'cylinder': [wheel, width], 'visual_at': [0.0, 0.0, 0.0, math.pi / 2, 0.0, 0.0],
-                         'material': 'black'}))
-    links = robot.get('links') or {}
-    if not isinstance(links, dict):
-        raise GeometryError('parameter /robot/links: must be a dictionary of links')
-    for name, spec in links.items():
+                        Drawing(_cylinder(wheel, width), [0.0, 0.0, 0.0, math.pi / 2, 0.0, 0.0], 'black', False)))
+    for name in names:
         if name == 'base_link':
             continue
-        if not isinstance(spec, dict):
-            raise GeometryError('parameter /robot/links/%s = %r: must be a dictionary' % (name, spec))
-        at = _numbers(spec.get('at', [0.0, 0.0, 0.0]), (3, 6), 'links/%s/at' % name)
-        out.append((name, str(spec.get('parent', 'base_link')), at, spec))
+        link = block.block(name)
+        parent = link.value('parent', 'base_link', str,
+                            meaning='the link it hangs on: base_link or a link of robot/links')
+        at = _numbers(link, 'at', (3, 6), [0.0, 0.0, 0.0], AT, "[m, rad] its origin in its parent's (REP-103)")
+        out.append((name, parent, at, _drawing(link, materials)))
     return out
 
 
 def urdf(robot):
-    """The URDF (a string) of a config's `robot:` block; GeometryError for a bad block."""
-    if not isinstance(robot, dict) or not robot.get('name'):
-        raise GeometryError('parameter /robot/name: missing (the robot block needs at least its name)')
-    materials = dict(PALETTE)
-    for name, rgb in (robot.get('materials') or {}).items():
-        materials[name] = _numbers(rgb, (3,), 'materials/%s' % name)
-    links = links_of(robot)
+    """The URDF (a string) of a config's `robot:` block (a dictionary, or its Params named /robot);
+    ParameterError for a bad block."""
+    robot = robot if isinstance(robot, Params) else Params(robot, '/robot')
+    name = robot.value('name', REQUIRED, str, check=lambda v: '' if v else 'must not be empty',
+                       meaning="the robot's name: the URDF's robot name, which match_panel shows")
+    materials = _materials(robot)
+    links = links_of(robot, materials)
     names = [n for n, _, _, _ in links]
-    for name, parent, _, _ in links:
+    for link, parent, _, _ in links:
         if parent is not None and parent not in names:
-            raise GeometryError('parameter /robot/links/%s/parent = %r: no such link (links: %s)' % (
-                name, parent, ', '.join(names)))
-        if names.count(name) > 1:
-            raise GeometryError('parameter /robot/links/%s: a link the block already makes' % name)
+            raise ParameterError('parameter %s = %r: no such link (links: %s)' % (
+                robot.qualified('links/%s/parent' % link), parent, ', '.join(names)))
+        if names.count(link) > 1:
+            raise ParameterError('parameter %s: a link the block already makes' % robot.qualified('links/' + link))
     lines = ['<?xml version="1.0"?>',
              '<!-- Written by robot_description/scripts/robot_urdf from the robot: block of the robot\'s',
              '     config (config/ROBOT.yaml): edit the config, not this. REP-103 axes, REP-105 frames. -->',
-             '<robot name=%s>' % quoteattr(str(robot['name']))]
-    for name in sorted(materials):
+             '<robot name=%s>' % quoteattr(name)]
+    for material in sorted(materials):
         lines.append('  <material name=%s><color rgba="%s 1"/></material>' % (
-            quoteattr(name), ' '.join(_f(c) for c in materials[name])))
-    for name, parent, at, spec in links:
-        lines += _link(name, _visual(spec, 'links/' + name, materials, collision=spec.get('collision', False)))
+            quoteattr(material), ' '.join(_f(c) for c in materials[material])))
+    for link, parent, at, drawing in links:
+        lines += _link(link, _visual(drawing))
         if parent is not None:
-            lines += _joint(name, parent, at)
+            lines += _joint(link, parent, at)
     lines.append('</robot>')
     return '\n'.join(lines) + '\n'

@@ -35,12 +35,15 @@ from robot_tools.calibration import replay
 from robot_tools.calibration import signals as sig
 from robot_tools.matches.match_config import merged, robot_config
 from robot_core.config_tree import simulated_robot
+from robot_core.params import ParameterError
+from robot_core.robot_geometry import RobotGeometry
 
 SEGMENT = 1.0  # [s] of the estimate per segment when the match has too few stops
 MIN_SEGMENTS = 10
 RANGE_USED = 0.8  # of a ranger's max_range: the readings the noise fit uses
 STRETCH = 45  # [s] of dead reckoning against the beacons, at least: long, for the few start poses it
 #             costs; short enough that a contact spoils a part of the match, not all of it
+SIM_TICKS_PER_REV = 512.0  # a driven wheel's encoder when the description gives none (robot_sim's parseRobot)
 
 
 def get(d, *path, default=None):
@@ -49,6 +52,32 @@ def get(d, *path, default=None):
             return default
         d = d[k]
     return d
+
+
+def described(config):
+    """The robot's description (RobotGeometry), as the devices read it; a bad value ends calibrate, in one line."""
+    try:
+        return RobotGeometry.of_config(config)
+    except ParameterError as e:
+        sys.exit('calibrate: %s' % e)
+
+
+def ticks_per_rev(config):
+    """The driven wheels' encoders' ticks per revolution: the description's, else the simulator's."""
+    ticks = described(config).encoder_ticks_per_rev
+    return SIM_TICKS_PER_REV if ticks is None else ticks
+
+
+def odometry_track(config, driven):
+    """The track the odometry integrates with (odometry_device.cpp): the driven pair's own where it
+    sets one, else the description's; neither is refused, as the odometry refuses it."""
+    if 'track_width' in driven:
+        return float(driven['track_width'])
+    track = described(config).track_width
+    if track is None:
+        sys.exit("calibrate: parameter /hal/odometry/pairs/driven/track_width: not set, and the robot's description "
+                 "has no /robot/track_width")
+    return track
 
 
 def common_ticks(encoders):
@@ -72,7 +101,7 @@ def fit_geometry(s, config):
     match has too few stops."""
     driven = get(config, 'hal', 'odometry', 'pairs', 'driven', default={})
     tpm = (float(driven['left_ticks_per_meter']), float(driven['right_ticks_per_meter']))
-    track = float(driven.get('track_width', get(config, 'robot', 'track_width', default=0.25)))
+    track = odometry_track(config, driven)
     t, tl, tr = common_ticks(s.encoders)
     e = s.estimate
     beacons = get(config, 'table', 'beacons', default=[])
@@ -111,7 +140,7 @@ def fit_geometry(s, config):
 
 
 def fit_motors(s, config):
-    tpr = float(get(config, 'robot', 'encoder_ticks_per_rev', default=512))
+    tpr = ticks_per_rev(config)
     out_ = {}
     for side in ('left', 'right'):
         if side not in s.commands or side not in s.encoders:
@@ -137,7 +166,7 @@ def fit_slip(geometry, s, config):
         return Fit(0.0), Fit(0.0), 0.0
     odo = np.array([np.sum((segs.dl[segs.seg == k] / fl.value + segs.dr[segs.seg == k] / fr.value) / 2.0)
                     for k in range(segs.count)])
-    tpr = float(get(config, 'robot', 'encoder_ticks_per_rev', default=512))
+    tpr = ticks_per_rev(config)
     radius = tpr / (2 * math.pi * (fl.value + fr.value) / 2.0)
     t_w, w = wheel_speed(*s.encoders['left'], tpr)
     acc_t = 0.5 * (t_w[1:] + t_w[:-1])
@@ -243,7 +272,7 @@ def main():
         s = sig.read(bag, config)
     geometry = fit_geometry(s, config)
     fl, fr, fb = geometry['fits']
-    tpr = float(get(config, 'robot', 'encoder_ticks_per_rev', default=512))
+    tpr = ticks_per_rev(config)
     radius_l, radius_r = tpr / (2 * math.pi * fl.value), tpr / (2 * math.pi * fr.value)
     radius = 0.5 * (radius_l + radius_r)
     motors = fit_motors(s, config)
@@ -301,7 +330,7 @@ def main():
              out.value_line('left ticks per metre', fl, driven.get('left_ticks_per_meter')),
              out.value_line('right ticks per metre', fr, driven.get('right_ticks_per_meter')),
              out.value_line('track width', fb, geometry['track'], ' m'),
-             out.value_line('wheel radius (mean)', Fit(radius), get(config, 'robot', 'wheel_radius'), ' m'),
+             out.value_line('wheel radius (mean)', Fit(radius), described(config).wheel_radius, ' m'),
              '  odometry drift against %s: %.1f mm/m before, %.1f mm/m after' % (
                  geometry['drift_what'], geometry['before'], geometry['after']),
              'the simulator (config/%s.sim.yaml; overlay %s):' % (args.robot, sim_yaml)]
