@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "robot_core/params.h"
+
 namespace robot_core {
 
 namespace {
@@ -42,16 +44,29 @@ std::string dotted(uint32_t a) {
   return buf;
 }
 
-// The strings of parameter `name` (a string or a list of strings); none when absent.
-std::vector<std::string> stringsParam(const std::string& name) {
-  std::vector<std::string> out;
-  XmlRpc::XmlRpcValue v;
-  if (!ros::param::get(name, v)) return out;
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) out.push_back(static_cast<std::string>(v));
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeArray)
-    for (int i = 0; i < v.size(); ++i)
-      if (v[i].getType() == XmlRpc::XmlRpcValue::TypeString) out.push_back(static_cast<std::string>(v[i]));
-  return out;
+// An entry of robot_hosts or allow as the installer takes it: a.b.c.d or a.b.c.0/n, no host bits.
+bool strictNetwork(const std::string& text) {
+  Ipv4Net net;
+  try {
+    net = Ipv4Net::parse(text);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  const uint32_t mask = net.prefix == 0 ? 0u : ~0u << (32 - net.prefix);
+  return (net.address & ~mask) == 0;
+}
+
+// Why `address` is no address of the robot ("" when it is one).
+std::string addressProblem(const std::string& address) {
+  Ipv4Net ip;
+  try {
+    ip = Ipv4Net::parse(address);
+  } catch (const std::invalid_argument&) {
+    return "'" + address + "' is not an IPv4 address";
+  }
+  if (address.find('/') != std::string::npos) return "'" + address + "' is not an IPv4 address";
+  if (ip.address == 0 || (ip.address >> 28) == 0xEu) return address + " is not an address of the robot";
+  return "";
 }
 
 }  // namespace
@@ -95,14 +110,45 @@ RobotNetwork::RobotNetwork(const std::vector<std::string>& trusted) {
   }
 }
 
+RobotNetwork RobotNetwork::fromParams(const Params& network) {
+  // The keys, meanings and refusals of robot_core/network_settings.py (the Python nodes' and the
+  // installer's reader), in its order: every key read, an unknown one refused, then the values.
+  const std::string address = network.optionalString("address", "127.0.0.1");
+  network.describe("address",
+                   "the robot's own address: ROS_IP of its nodes, its master at http://address:master_port "
+                   "(loopback on one computer)");
+  const int port = network.optionalInt("master_port", 11311);
+  network.describe("master_port", "the ROS master's TCP port (ROS_MASTER_URI), opened by the firewall");
+  const std::vector<std::string> robot_hosts = network.optionalStringList("robot_hosts");
+  network.describe("robot_hosts", "the robot's other computers (two-computer deployment): their nodes are the robot's");
+  const std::vector<std::string> allow = network.optionalStringList("allow");
+  network.describe("allow",
+                   "laptops let in (rviz, the team's tools): trusted, not the robot; for one match: make allow-laptop");
+  const std::vector<std::string> unknown = network.unasked();
+  if (!unknown.empty()) {
+    const std::string& line = unknown.front();  // "<ns>/<key> = <value>"
+    const std::size_t from = network.ns().size() + 1;
+    std::string known;
+    for (const auto& k : network.askedKeys()) known += (known.empty() ? "" : ", ") + k;
+    network.check(line.substr(from, line.find(" = ") - from), "unknown key (" + known + ")");
+  }
+  network.check("address", addressProblem(address));
+  if (port < 1 || port > 65535) network.check("master_port", std::to_string(port) + " is not a port (1..65535)");
+  std::vector<std::string> trusted{address};
+  for (const auto& [key, entries] : {std::make_pair("robot_hosts", &robot_hosts), std::make_pair("allow", &allow)})
+    for (const auto& entry : *entries) {
+      if (!strictNetwork(entry))
+        network.check(key, "'" + entry + "' is not an IPv4 address or network (a.b.c.d or a.b.c.0/24)");
+      trusted.push_back(entry);
+    }
+  return RobotNetwork(trusted);
+}
+
 RobotNetwork RobotNetwork::fromParameters() {
-  std::vector<std::string> trusted;
-  for (const char* key : {"address", "robot_hosts", "allow"})
-    for (const auto& s : stringsParam(std::string("/computer/network/") + key)) trusted.push_back(s);
   try {
-    return RobotNetwork(trusted);
-  } catch (const std::invalid_argument& e) {
-    ROS_ERROR("command gate: parameter /computer/network: %s; only this computer is trusted", e.what());
+    return fromParams(Params::of(ros::NodeHandle("/computer")).block("network"));
+  } catch (const std::exception& e) {  // ParameterError; std::invalid_argument from Ipv4Net::parse
+    ROS_ERROR("command gate: %s; only this computer is trusted", e.what());
     return RobotNetwork(std::vector<std::string>{});
   }
 }

@@ -95,15 +95,16 @@ class CheckConfigTest(unittest.TestCase):
 
     def test_an_emulators_and_a_hosts_own_readers_run(self):
         # sim/firmware blocks go through each emulator's own reader (a misspelt key, a value out of
-        # range), the hosts' own values through theirs
+        # range), the hosts' own values through theirs, the robot's network through its one reader
         path = self.overlay('sim:\n  firmware:\n    motor_board: {node_idd: 10}\n    epos: {nominal_rpm: -5}\n'
-                            'hcl:\n  realtime_priority: 100\n')
+                            'hcl:\n  realtime_priority: 100\ncomputer:\n  network: {adress: 10.0.0.2}\n')
         errors = self.refused(['eurobot2009', '--overlay', path],
                               '/sim/firmware/motor_board/node_idd = 10: not a parameter of emulator type MotorBoard '
                               '(it reads: ',
                               '/sim/firmware/epos/nominal_rpm = -5: must be',
-                              '/hcl/realtime_priority = 100: must be in')
-        self.assertEqual(len(errors), 3)
+                              '/hcl/realtime_priority = 100: must be in',
+                              '/computer/network/adress')
+        self.assertEqual(len(errors), 4)
         self.assertIn('node_id', errors[[i for i, e in enumerate(errors) if 'node_idd' in e][0]].split('(it reads: ')[1])
 
     def test_several_overlays_each_over_the_one_before(self):

@@ -30,6 +30,8 @@
 
 namespace robot_core {
 
+class Params;
+
 // An IPv4 network: address and prefix length ("10.0.0.2" is 10.0.0.2/32).
 struct Ipv4Net {
   uint32_t address = 0;  // host byte order
@@ -39,13 +41,16 @@ struct Ipv4Net {
   static Ipv4Net parse(const std::string& text);
 };
 
-// The robot's network from computer/network (a struct; missing keys: loopback only) plus this
-// computer's interface addresses. Pure: no ROS calls.
+// The robot's network from computer/network (missing keys: loopback only) plus this computer's
+// interface addresses. Pure but fromParameters (the parameter server).
 class RobotNetwork {
  public:
   RobotNetwork() = default;
   explicit RobotNetwork(const std::vector<std::string>& trusted);  // addresses or networks
-  // From the parameter server: computer/network/{address, robot_hosts, allow}.
+  // From `network`, computer/network read as robot_core/network_settings.py reads it (address,
+  // master_port, robot_hosts, allow; an unknown key refused). Throws ParameterError naming a bad value.
+  static RobotNetwork fromParams(const Params& network);
+  // From the parameter server's /computer/network; on a bad value an ERROR and only this computer.
   static RobotNetwork fromParameters();
   bool trusted(uint32_t address) const;
   bool trusted(const std::string& dotted) const;

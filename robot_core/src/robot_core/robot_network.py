@@ -2,7 +2,8 @@
 
 The robot's network: 127.0.0.0/8, this computer's own addresses, and the config's
 computer/network (address, robot_hosts, allow: addresses or CIDR networks; allow is the team's
-laptop). A node is "foreign" when the host of its XML-RPC URI (as the master has it) is outside.
+laptop; read by robot_core/network_settings.py). A node is "foreign" when the host of its
+XML-RPC URI (as the master has it) is outside.
 
   net = RobotNetwork.from_param_server()
   net.foreign(master, '/some_node') -> (True/False, '10.1.2.3')
@@ -15,6 +16,9 @@ import subprocess
 import threading
 import time
 from urllib.parse import urlparse
+
+from robot_core.network_settings import read_network
+from robot_core.params import Params
 
 LOOKUP_TTL = 10.0  # [s] a node's host is asked again after this long
 
@@ -49,13 +53,15 @@ class RobotNetwork(object):
 
     @classmethod
     def from_param_server(cls):
-        import rospy
-        net = rospy.get_param('/computer/network', {}) or {}
+        """From /computer/network (robot_core/network_settings.py); ParameterError (a ValueError)
+        names a bad value."""
+        return cls.from_params(Params.from_server('/computer').block('network'))
 
-        def strings(key):
-            v = net.get(key) or []
-            return [v] if isinstance(v, str) else list(v)
-        return cls(strings('address') + strings('robot_hosts'), strings('allow'))
+    @classmethod
+    def from_params(cls, network, local=None):
+        """From `network`, a Params over computer/network (read_network's rules)."""
+        settings = read_network(network)
+        return cls([settings['address']] + settings['robot_hosts'], settings['allow'], local)
 
     @staticmethod
     def _within(address, nets):

@@ -6,8 +6,9 @@ import ipaddress
 import os
 import shlex
 
-from robot_tools.install.plan import (DEFAULT_NETWORK, PORT_RANGE_FILE, REPO, ipv4_network, plan,
-                                      read_port_range)
+from robot_core.network_settings import ipv4_network
+
+from robot_tools.install.plan import DEFAULT_NETWORK, PORT_RANGE_FILE, REPO, plan, read_port_range
 
 UNIT_DIR = '/etc/systemd/system'
 RULES_DIR = '/etc/udev/rules.d'

@@ -2,17 +2,18 @@
 the validated `computer:` section (CAN bitrates, USB devices, network, real-time priority) and
 this machine's ephemeral port range. Reads, never changes the host; every refusal is a
 ConfigError with one line."""
-import ipaddress
 import os
 import re
 
 import yaml
+from robot_core.network_settings import read_network
+from robot_core.params import ParameterError, Params
 
 from robot_tools.paths import ROOT as REPO
 
 PORT_RANGE_FILE = '/proc/sys/net/ipv4/ip_local_port_range'
 DEFAULT_PORT_RANGE = (32768, 60999)   # Linux's default ip_local_port_range
-DEFAULT_NETWORK = {'address': '127.0.0.1', 'master_port': 11311, 'robot_hosts': [], 'allow': []}
+DEFAULT_NETWORK = read_network(Params({}, '/computer/network'))   # the reader's defaults
 IFACE_RE = re.compile(r'^[A-Za-z0-9_.-]{1,15}$')   # a Linux interface name (IFNAMSIZ - 1)
 USB_ID_RE = re.compile(r'^[0-9a-fA-F]{4}$')
 
@@ -95,52 +96,14 @@ def realtime_priority(src, config):
     return highest
 
 
-def ipv4_network(text):
-    """An IPv4 address or CIDR network (no host bits set) as an IPv4Network; ValueError else."""
-    if isinstance(text, bool) or not isinstance(text, (str, int)) or ':' in str(text):
-        raise ValueError(text)
-    return ipaddress.IPv4Network(str(text).strip(), strict=True)
-
-
 def network_plan(src, network):
     """computer/network validated, with its defaults (loopback, 11311, no other hosts): {'address':
-    '127.0.0.1', 'master_port': 11311, 'robot_hosts': [...], 'allow': [...]} (lists of str)."""
-    if network is None:
-        network = {}
-    if not isinstance(network, dict):
-        raise ConfigError('%s: computer/network: must be a mapping {address, master_port, robot_hosts, allow}' % src)
-    unknown = sorted(set(map(str, network)) - set(DEFAULT_NETWORK))
-    if unknown:
-        raise ConfigError('%s: computer/network/%s: unknown key (address, master_port, robot_hosts, allow)'
-                          % (src, unknown[0]))
-    out = dict(DEFAULT_NETWORK, **network)
-    address = out['address']
+    '127.0.0.1', 'master_port': 11311, 'robot_hosts': [...], 'allow': [...]} (lists of str), as
+    the nodes read it (robot_core/network_settings.py)."""
     try:
-        if isinstance(address, bool) or not isinstance(address, (str, int)):
-            raise ValueError(address)
-        ip = ipaddress.IPv4Address(str(address).strip())
-    except ValueError:
-        raise ConfigError('%s: computer/network/address: %r is not an IPv4 address' % (src, address))
-    if ip.is_unspecified or ip.is_multicast:
-        raise ConfigError('%s: computer/network/address: %s is not an address of the robot' % (src, ip))
-    port = out['master_port']
-    if not isinstance(port, int) or isinstance(port, bool) or not 1 <= port <= 65535:
-        raise ConfigError('%s: computer/network/master_port: %r is not a port (1..65535)' % (src, port))
-    lists = {}
-    for key in ('robot_hosts', 'allow'):
-        value = out[key]
-        if value is None:
-            value = []
-        if not isinstance(value, list):
-            raise ConfigError('%s: computer/network/%s: must be a list of IPv4 addresses or networks' % (src, key))
-        lists[key] = []
-        for entry in value:
-            try:
-                lists[key].append(str(ipv4_network(entry)))
-            except ValueError:
-                raise ConfigError('%s: computer/network/%s: %r is not an IPv4 address or network (a.b.c.d or '
-                                  'a.b.c.0/24)' % (src, key, entry))
-    return {'address': str(ip), 'master_port': port, 'robot_hosts': lists['robot_hosts'], 'allow': lists['allow']}
+        return read_network(Params({'network': network}, '/computer').block('network'))
+    except ParameterError as e:
+        raise ConfigError('%s: %s' % (src, str(e).replace('parameter /', '', 1)))
 
 
 def read_port_range(path=PORT_RANGE_FILE):

@@ -6,8 +6,10 @@ import re
 import subprocess
 import sys
 
+from robot_core.network_settings import ipv4_network
+
 from robot_tools.install.host_files import NFT, firewall_unit_name, table_name
-from robot_tools.install.plan import ConfigError, ipv4_network
+from robot_tools.install.plan import ConfigError
 
 
 # ---- the running firewall: the allow-list for one match (not persistent) ----
