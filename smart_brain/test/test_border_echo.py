@@ -1,13 +1,10 @@
 """border_echo: distance from a ranger to the table border across its cone, and which pose an echo
 is explained from (a tf buffer filled by hand: no ROS master needed)."""
 import math
-import os
-import sys
 import time
 import unittest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src'))
-from robot_core.table_geometry import TableGeometry  # noqa: E402
+from robot_core.table_geometry import TableGeometry
 
 L, W = 3.0, 2.1
 TABLE = TableGeometry(L, W)

@@ -7,7 +7,9 @@ import unittest
 
 import yaml
 from robot_core.params import ParameterError
-from smart_brain.brain_config import read_config, unknown
+from smart_brain import strategy as strategies
+from smart_brain import triggers as trigger_kinds
+from smart_brain.brain_config import read_config, read_unconfigured, unknown
 from smart_brain.strategy import StrategyError
 
 CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'config')
@@ -93,6 +95,45 @@ class BrainParametersTest(unittest.TestCase):
         params, settings = read_config(brain, {})
         self.assertEqual(settings.duration, 100.0)
         self.assertEqual(unknown(params), [])
+
+    def test_the_table_read_once_reaches_the_strategy_and_its_triggers(self):
+        tree = config('logion')
+        tree['table']['length'] = 2.5
+        _, settings = read_config(tree['brain'], tree['table'])
+        impl = settings.strategy.impl
+        self.assertEqual(impl.table, (2.5, tree['table']['width']))
+        self.assertEqual(impl.start_zones, tree['table']['start_zones'])
+        opponent = [values for kind, _, values in impl.trigger_settings if kind == 'opponent_ahead']
+        self.assertEqual(opponent, [dict(opponent[0], table=(2.5, tree['table']['width']))])
+        # a config without a table: 3 m x 2.1 m
+        self.assertEqual(read_config(tree['brain'], {})[1].strategy.impl.table, (3.0, 2.1))
+
+    def test_a_wrong_table_value_is_refused_naming_it(self):
+        tree = config('logion')
+        tree['table']['width'] = 'wide'
+        with self.assertRaises(ParameterError) as e:
+            read_config(tree['brain'], tree['table'])
+        self.assertEqual(str(e.exception), "parameter /table/width = 'wide': must be a number")
+
+    def test_what_a_config_does_not_set_up_is_described_at_its_defaults(self):
+        # check_brain_config --describe: a parameter table for every strategy and trigger kind
+        params, _ = read_config({'strategy': 'idle'}, {})
+        declared = read_unconfigured(params, {}).declarations()
+        self.assertEqual({name.split('/')[1] for name in declared if name.startswith('triggers/')},
+                         set(trigger_kinds.available()))
+        self.assertIn('topic_flag', trigger_kinds.available())
+        self.assertEqual(declared['triggers/topic_flag/topic'].default, '/brain/stop_flag')
+        self.assertTrue(declared['calibration/square'].required)
+        self.assertEqual(declared['calibration/rounds'].default, '1')
+        for name, d in declared.items():
+            self.assertTrue(d.meaning, '/brain/%s is read without a meaning' % name)
+            self.assertTrue(d.type, '/brain/%s is described but never read' % name)
+        # what the config sets up is described by its own reading, not again
+        tree = config('eurobot2009')
+        params, _ = read_config(tree['brain'], tree['table'])
+        declared = read_unconfigured(params, tree['table']).declarations()
+        self.assertEqual({name.split('/')[0] for name in declared} & set(strategies.available()), {'match2008'})
+        self.assertEqual({name.split('/')[1] for name in declared if name.startswith('triggers/')}, {'topic_flag'})
 
     def test_a_missing_strategy_names_the_allowed_ones(self):
         with self.assertRaises(StrategyError) as e:

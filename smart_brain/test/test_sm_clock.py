@@ -8,6 +8,7 @@ import unittest
 import os  # noqa: E402
 import sys  # noqa: E402
 
+# catkin runs nose without adding this folder to the path; the shared helpers live here.
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sm_helpers import SimClock
 from smart_brain.statemachine import Trigger, WaitState, clock, timers

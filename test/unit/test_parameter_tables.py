@@ -1,5 +1,5 @@
-"""The parameter tables (make docs: hcl_drivers, hal_nodes, robot_sim, smart_brain and
-robot_description's PARAMETERS.md) are what
+"""The parameter tables (make docs: hcl_drivers, hal_nodes, robot_sim, smart_brain, robot_description
+and robot_core's PARAMETERS.md) are what
 the readers declare: regenerated from the code, they equal the committed files; and they hold
 what a reader asks for, with the default and the range it checks."""
 import os
@@ -43,7 +43,7 @@ class ParameterTablesTest(unittest.TestCase):
         # the meaning is the reader's own Params::describe beside the read: a new parameter
         # without one shows here, not as a silent blank in the docs
         blank = []
-        for package in ('hcl_drivers', 'hal_nodes', 'robot_sim', 'smart_brain', 'robot_description'):
+        for package in ('hcl_drivers', 'hal_nodes', 'robot_sim', 'smart_brain', 'robot_description', 'robot_core'):
             with open(os.path.join(ROOT, package, 'PARAMETERS.md')) as f:
                 blank += ['%s: %s' % (package, l.split('|')[1].strip()) for l in f
                           if l.startswith('| `') and l.rstrip().endswith('|  |')]
@@ -64,6 +64,19 @@ class ParameterTablesTest(unittest.TestCase):
         self.assertIn('distance', rows('smart_brain', 'brain/triggers/opponent_ahead'))
         self.assertIn('realtime_priority', rows('robot_sim', 'sim (the simulator node)'))
         self.assertEqual(rows('robot_description', 'process_watch (~)')['nodes'][:2], ['list', 'required'])
+
+    def test_the_emulators_the_hosts_and_the_shared_blocks_have_tables(self):
+        # each emulator type's reader (robot_sim/src/firmware: Firmware::configure)
+        epos = rows('robot_sim', 'sim/firmware/<name>: Epos')
+        self.assertEqual(epos['nominal_rpm'][:3], ['number', '8000', '> 0'])
+        self.assertEqual(rows('robot_sim', 'sim/firmware/<name>: SRF02')['address'][:3], ['integer', 'required', '112 .. 127'])
+        self.assertIn('type', rows('robot_sim', 'Every emulator (`sim/firmware/<name>`)'))
+        # the component hosts' own values (robot_core/host_settings.h)
+        host = rows('hcl_drivers', '`hcl:` (hcl_node, the host of the boards)')
+        self.assertEqual(host['realtime_priority'][:3], ['integer', '0', '0 .. 99'])
+        self.assertIn('only', rows('hal_nodes', '`hal:` (hal_node, the host of the devices)'))
+        # the blocks several packages read
+        self.assertIn('length', rows('robot_core', 'table'))
 
 
 if __name__ == '__main__':

@@ -1,7 +1,7 @@
-"""The tools in scripts/ never use a module before the function that imports it does: Python then
-makes the name local to the whole function and the earlier use fails at run time
-(UnboundLocalError), on a path a test may not take (`make run` without --out did). Read from the
-source, nothing imported or run."""
+"""The tools (the commands in scripts/ and the modules of robot_tools, where their code lives) never
+use a module before the function that imports it does: Python then makes the name local to the
+whole function and the earlier use fails at run time (UnboundLocalError), on a path a test may not
+take. Read from the source, nothing imported or run."""
 import ast
 import glob
 import os
@@ -29,12 +29,18 @@ def used_before_import(tree):
     return out
 
 
+def sources(*folder):
+    """Every Python file under ROOT/folder, subfolders included."""
+    return sorted(glob.glob(os.path.join(ROOT, *folder + ('**', '*.py')), recursive=True))
+
+
 class ToolImportsTest(unittest.TestCase):
     def test_no_module_is_used_before_its_import(self):
-        files = sorted(glob.glob(os.path.join(ROOT, 'scripts', '*.py')) + glob.glob(os.path.join(ROOT, 'scripts', 'bench', '*.py')))
-        self.assertGreater(len(files), 20)
+        scripts, package = sources('scripts'), sources('robot_tools', 'src', 'robot_tools')
+        self.assertGreater(len(scripts), 20)
+        self.assertGreater(len(package), 20)
         found = []
-        for path in files:
+        for path in scripts + package:
             with open(path) as f:
                 tree = ast.parse(f.read(), path)
             found += ['%s: %s() uses %s at line %d, imports it at line %d' % ((os.path.relpath(path, ROOT),) + hit)

@@ -6,7 +6,7 @@
 // Each error on one line on stderr (the parameter, the value, what is allowed), exit 1; nothing
 // and exit 0 when they are accepted or the file has no sim block. With --describe, what the
 // readers declared of each parameter, a line each on stdout (the generated parameter tables, make
-// docs): "simulator|world|table|firmware:TYPE<tab>name<tab>type<tab>required|optional<tab>default<tab>rule<tab>meaning".
+// docs): "simulator|world|table|robot|firmware:TYPE<tab>name<tab>type<tab>required|optional<tab>default<tab>rule<tab>meaning".
 #include <cstdio>
 #include <string>
 
@@ -41,13 +41,16 @@ int main(int argc, char** argv) {
     try {
       const robot_core::Params sim = all["sim"];
       robot_sim::SimulatorSettings::read(sim);
-      const robot_core::Params world = all["sim/world"], table = all["table"];
-      robot_sim::parseWorldConfig(world, table, all["robot"]);
+      const robot_core::Params world = all["sim/world"], table = all["table"], robot = all["robot"];
+      robot_sim::parseWorldConfig(world, table, robot);
       if (describe) {
         for (const auto& [name, d] : sim.declarations())
           if (name.rfind("world/", 0) != 0 && name.rfind("firmware/", 0) != 0) print("simulator", name, d);
         for (const auto& [name, d] : world.declarations()) print("world", name, d);
         for (const auto& [name, d] : table.declarations()) print("table", name, d);
+        // the description's values the simulated robot takes (its links are robot_urdf's table, links/<name>)
+        for (const auto& [name, d] : robot.declarations())
+          if (name.rfind("links/", 0) != 0) print("robot", name, d);
       }
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s\n", e.what());

@@ -33,6 +33,7 @@ from smart_brain import strategy as strategies
 from smart_brain.brain_config import read_config, unknown
 from smart_brain.statemachine import GOAL_GUARD, clock
 from smart_brain.strategy import StrategyError
+from smart_brain.table_settings import TableSettings
 
 
 def hal_devices_present():
@@ -75,7 +76,7 @@ class Brain(object):
     def __init__(self):
         # Every parameter of the brain and its strategy, read at once (brain_config.py).
         self.params = Params.from_server('~')
-        self.table = rospy.get_param('/table', {})
+        self.table = TableSettings.from_server()  # handed to every strategy (and its world view, triggers)
         _, settings = read_config(self.params, self.table)  # and every other strategy the config sets up
         for line in unknown(self.params):
             rospy.logwarn('brain: %s', line)
@@ -427,6 +428,7 @@ class Brain(object):
 def main():
     sim_time_sleep.install()  # its rospy timers and rate wake at their deadline, not at every /clock
     rospy.init_node('brain')
+    # Set by the launch for the whole graph, not a brain parameter: read as rospy itself reads it.
     if rospy.get_param('/use_sim_time', False):
         clock.use_ros_time()  # every timeout, hold-off and the match timer on /clock
     try:

@@ -5,11 +5,14 @@ or a key no reader knows is said before anything starts.
 
 BrainSettings reads the node's own values and creates the strategy to run (its read_config reads
 its block and the triggers'); read_config() also reads the block of every other strategy present
-(one the operator may switch to), after which unknown() lists what no reader asked for.
+(one the operator may switch to), after which unknown() lists what no reader asked for. Every
+strategy gets the same TableSettings (table_settings.py), the /table values read once.
 """
 from robot_core.params import REQUIRED, Params
 from smart_brain import strategy as strategies
+from smart_brain import triggers as trigger_kinds
 from smart_brain.strategy import StrategyError
+from smart_brain.table_settings import TableSettings
 
 #: the brain's own blocks (a strategy's block has its name; the strategy `match` has none)
 BRAIN_BLOCKS = ('match', 'ready')
@@ -17,7 +20,7 @@ BRAIN_BLOCKS = ('match', 'ready')
 
 class BrainSettings(object):
     def __init__(self, params, table, strategy=None):
-        """`params`: the brain's Params; `table`: the /table dictionary; `strategy`: the strategy
+        """`params`: the brain's Params; `table`: the TableSettings; `strategy`: the strategy
         to run (None: ~strategy)."""
         strategies.load_modules(params.value(
             'strategy_modules', [], list, meaning='extra Python modules that @register strategies',
@@ -66,15 +69,36 @@ class BrainSettings(object):
 
 
 def read_config(brain, table, strategy=None):
-    """(Params, BrainSettings) of a `brain:` block with every strategy block in it read too; raises
-    ParameterError or StrategyError at the first wrong value."""
+    """(Params, BrainSettings) of a `brain:` block with every strategy block in it read too; `table`:
+    the TableSettings or the /table dictionary. Raises ParameterError or StrategyError at the
+    first wrong value."""
     params = brain if isinstance(brain, Params) else Params(brain or {}, '/brain')
+    table = TableSettings.of(table)
     settings = BrainSettings(params, table, strategy)
     running = {settings.strategy.name, getattr(getattr(settings.strategy, '_impl', None), 'name', None)}
     for name in strategies.available():
         if name not in running and strategies.strategy_class(name).configured_in(params):
             strategies.create(name, params, table)
     return params, settings
+
+
+def read_unconfigured(params, table):
+    """A reader of its own over the brain's namespace through which every registered strategy and
+    trigger kind that `params` (after read_config) holds no declaration of has read an empty
+    block: what each declares at its defaults, for the parameter table (check_brain_config
+    --describe) of what no config sets up. `table`: the TableSettings or the /table dictionary."""
+    table = TableSettings.of(table)
+    declared = [name.split('/') for name in params.declarations()]
+    kinds_read = {parts[1] for parts in declared if parts[0] == 'triggers' and len(parts) > 2}
+    kinds = [k for k in trigger_kinds.available() if k not in kinds_read]
+    names = [n for n in strategies.available() if n not in BRAIN_BLOCKS and n not in {parts[0] for parts in declared}]
+    tree = dict({n: {} for n in names}, triggers={k: {} for k in kinds})
+    empty = Params(tree, params.ns)
+    empty._record.describing = True  # a required value reads as None and the reader declares on (describe_node)
+    trigger_kinds.settings(empty.block('triggers'), table=table)
+    for name in names:
+        strategies.create(name, empty, table)
+    return empty
 
 
 def unknown(params):

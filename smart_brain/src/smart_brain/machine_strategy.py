@@ -38,7 +38,7 @@ class MachineStrategy(Strategy):
     def read_config(self, brain, table):
         """The strategy's block (Strategy.read_config) and the triggers' blocks (~triggers) it runs with."""
         Strategy.read_config(self, brain, table)
-        self.trigger_settings = trigger_kinds.settings(brain.block('triggers'), self.trigger_kinds)
+        self.trigger_settings = trigger_kinds.settings(brain.block('triggers'), self.trigger_kinds, table)
 
     def param(self, key, default=None):
         """~<strategy name>/<key> of the brain node (the strategy's own config block), as read by

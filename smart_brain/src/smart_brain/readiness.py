@@ -101,6 +101,7 @@ class Readiness(object):
         names = []
         for node in self.nodes:
             try:
+                # a live value a (re)starting host writes: read at each check, not once at start
                 value = rospy.get_param(node.rstrip('/') + '/status_names', [])
             except (KeyError, OSError):
                 value = []

@@ -16,6 +16,7 @@ else and with no ROS, so a wrong value stops the brain at once and `check_config
 parameter table (`make docs`) read a config file the same way; `parameters` says what each key
 means (a key read without a meaning there fails test_parameter_tables).
 """
+from smart_brain.table_settings import TableSettings
 
 
 class StrategyError(Exception):
@@ -45,8 +46,9 @@ class Strategy(object):
     def read_config(self, brain, table):
         """Read this strategy's parameters with no ROS: `brain` is the brain node's reader (a
         robot_core.params.Params; the strategy's own block is brain.block(self.name)), `table`
-        the robot's table description (the /table dictionary). Called once, before initialize();
-        a bad value raises ParameterError or StrategyError naming it."""
+        the robot's table description (a table_settings.TableSettings, read once by the brain).
+        Called once, before initialize(); a bad value raises ParameterError or StrategyError
+        naming it."""
         self.params = brain.block(self.name)
         for key, meaning in self.parameters.items():
             self.params.describe(key, meaning)
@@ -54,9 +56,8 @@ class Strategy(object):
     def ensure_config(self):
         """read_config() from the parameter server, for a strategy created without the brain's reader."""
         if getattr(self, 'params', None) is None:
-            import rospy
             from robot_core.params import Params
-            self.read_config(Params.from_server('~'), rospy.get_param('/table', {}))
+            self.read_config(Params.from_server('~'), TableSettings.from_server())
 
     def initialize(self):
         """Set up subscriptions and publishers to HAL."""
@@ -96,15 +97,15 @@ def available():
 
 def create(name, brain=None, table=None):
     """A new instance of the strategy called `name`; StrategyError naming the allowed values if unknown.
-    With `brain` (the brain node's Params) and `table` (the /table dictionary), its parameters
-    are read (read_config)."""
+    With `brain` (the brain node's Params) and `table` (the TableSettings, or the /table
+    dictionary), its parameters are read (read_config)."""
     _load_builtin()
     if name not in _REGISTRY:
         raise StrategyError("parameter ~strategy = '%s': unknown strategy; allowed values: %s"
                             % (name, ', '.join(sorted(_REGISTRY))))
     strategy = _REGISTRY[name]()
     if brain is not None:
-        strategy.read_config(brain, table or {})
+        strategy.read_config(brain, TableSettings.of(table))
     return strategy
 
 

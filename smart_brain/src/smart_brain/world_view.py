@@ -3,24 +3,21 @@
 import math
 import threading
 
+from robot_core.geometry import yaw_of
 from smart_brain.statemachine import clock
 
 
-def table_size(table):
-    """(length, width) [m] of the table description (the /table dictionary), 3 x 2.1 where it is silent."""
-    return float(table.get('length', 3.0)), float(table.get('width', 2.1))
-
-
 class WorldView(object):
-    def __init__(self, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0, border_margin=0.0,
-                 on_elements=None):
-        """`on_elements(stamp, [(kind, x, y)])`, if given, is called with each camera frame's elements."""
+    def __init__(self, table, vision_topic='/hal/vision/elements', pose_topic='/mcl/pose', max_age=1.0,
+                 border_margin=0.0, on_elements=None):
+        """`table`: (length, width) [m] (the strategy's TableSettings.size); `on_elements(stamp,
+        [(kind, x, y)])`, if given, is called with each camera frame's elements."""
         import rospy
         self._on_elements_cb = on_elements
         #: [m] elements seen closer than this to a border are left out: a detection on the border
         #: line is no element, and one lying against the border cannot be taken without pushing it
         self.border_margin = float(border_margin)
-        self.table = table_size(rospy.get_param('/table', {}))
+        self.table = tuple(table)
         from geometry_msgs.msg import PoseWithCovarianceStamped
         from hal_nodes.msg import GameElements
         self.max_age = max_age
@@ -32,7 +29,7 @@ class WorldView(object):
 
     def _on_pose(self, msg):
         p = msg.pose.pose
-        yaw = 2.0 * math.atan2(p.orientation.z, p.orientation.w)
+        yaw = yaw_of(p.orientation)
         with self._lock:
             self._pose = (p.position.x, p.position.y, yaw)
 

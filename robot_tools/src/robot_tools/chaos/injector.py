@@ -124,12 +124,16 @@ def kidnap(distance):
     import rospy
     from geometry_msgs.msg import Pose2D
     from nav_msgs.msg import Odometry
+    from robot_core.geometry import yaw_of
+    from robot_core.params import REQUIRED, Params
     from robot_sim.srv import Teleport
     truth = rospy.wait_for_message('/sim/ground_truth', Odometry, 5.0)
     p = truth.pose.pose
     x, y = p.position.x, p.position.y
-    theta = 2.0 * math.atan2(p.orientation.z, p.orientation.w)
-    length, width = rospy.get_param('/table/length'), rospy.get_param('/table/width')
+    theta = yaw_of(p.orientation)
+    table = Params.from_server('/table')
+    length = table.value('length', REQUIRED, float, meaning='[m] the table along x: its centre is the kidnap\'s aim')
+    width = table.value('width', REQUIRED, float, meaning='[m] the table along y')
     dx, dy = length / 2.0 - x, width / 2.0 - y
     d = math.hypot(dx, dy) or 1.0
     r = rospy.ServiceProxy('/sim/teleport', Teleport)(pose=Pose2D(x + distance * dx / d, y + distance * dy / d, theta))

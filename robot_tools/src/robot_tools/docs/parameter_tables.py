@@ -10,6 +10,8 @@ allowed, what it means: Params::describe beside the read). One table per board t
 (hcl_drivers/PARAMETERS.md), device type (hal_nodes/PARAMETERS.md), the simulator and its world
 and each emulator type (robot_sim/PARAMETERS.md) and the brain, its strategies and triggers (smart_brain/PARAMETERS.md,
 smart_brain's check_brain_config); the parameters every board or device type reads come first, once.
+The blocks several packages read (robot: through robot_description's robot_urdf, table: through the
+world's reader, computer/network) are robot_core's (robot_core/PARAMETERS.md).
 The Python nodes whose parameters a launch file sets (NODES: robot_description's) are asked once
 each, `<node> --describe`, one table per node (robot_description/PARAMETERS.md).
 With --check nothing is written: exit 1 and the files that differ from what the code declares
@@ -33,11 +35,16 @@ SOURCES = (
     ('hal_nodes', 'robot_core', 'check_components', ['hal', 'hal_nodes', 'device', '--describe'], 'device'),
     ('robot_sim', 'robot_sim', 'check_sim_config', ['--describe'], 'world'),
     ('smart_brain', 'smart_brain', 'check_brain_config', ['--describe'], 'brain'),
+    ('robot_core', 'robot_description', 'robot_urdf', ['--describe'], 'robot_core'),  # the robot: block
 )
 # Python nodes whose parameters a launch file sets, not a robot's config: (package, its nodes),
 # each asked once with --describe (robot_core.params.describe_node).
 NODES = (
     ('robot_description', ('diagnostics_markers', 'network_guard', 'process_watch', 'table_markers')),
+)
+# Python readers of a shared block, asked once with --describe: (package whose table it is, the command).
+MODULES = (
+    ('robot_core', [sys.executable, '-m', 'robot_core.network_settings', '--describe']),  # computer/network
 )
 Declaration = collections.namedtuple('Declaration', 'type required default rule meaning')
 FIRMWARE = 'firmware:'  # check_sim_config's component name of an emulator type: firmware:TYPE
@@ -90,7 +97,6 @@ def declarations():
     """{table kind: {component type: {name: Declaration}}} over every config; a default that
     differs between configs (one computed from another value) is shown as each."""
     out = {kind: collections.defaultdict(dict) for _, _, _, _, kind in SOURCES}
-    out[SHARED_PACKAGE] = collections.defaultdict(dict)
     for package, nodes in NODES:
         out[package] = collections.defaultdict(dict)
         for name in nodes:
@@ -100,6 +106,12 @@ def declarations():
                 sys.exit('parameter_tables: %s --describe failed:\n%s' % (name, done.stderr))
             for component, pname, d in described(done.stdout):
                 out[package][component][pname] = d
+    for package, command in MODULES:
+        done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+        if done.returncode != 0:
+            sys.exit('parameter_tables: %s failed:\n%s' % (' '.join(command[1:]), done.stderr))
+        for component, pname, d in described(done.stdout):
+            out[package][component][pname] = d
     for label, tree in configs():
         with tempfile.NamedTemporaryFile('w', suffix='.yaml', prefix='parameter_tables_') as f:
             yaml.safe_dump(tree, f)
@@ -197,7 +209,7 @@ def main(argv=None):
     found = declarations()
     stale = []
     tables = [(package, kind) for package, _, _, _, kind in SOURCES] + [(p, p) for p, _ in NODES]
-    for package, kind in tables + [(SHARED_PACKAGE, SHARED_PACKAGE)]:
+    for package, kind in tables:
         path = os.path.join(ROOT, package, 'PARAMETERS.md')
         text = document(package, kind, found[kind])
         old = open(path).read() if os.path.exists(path) else None

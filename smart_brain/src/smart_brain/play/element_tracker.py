@@ -11,6 +11,8 @@ scoring zone of ours are never offered (built: left alone).
 """
 import math
 
+from robot_core.geometry import wrap_angle
+
 
 class Element(object):
     __slots__ = ('x', 'y', 'seen_at', 'unseen_in_view')
@@ -45,7 +47,7 @@ class ElementTracker(object):
         if not self.view_min <= d <= self.view_max:
             return False
         bearing = math.atan2(y - pose[1], x - pose[0]) - pose[2]
-        return abs(math.atan2(math.sin(bearing), math.cos(bearing))) <= self.view_half_angle
+        return abs(wrap_angle(bearing)) <= self.view_half_angle
 
     def update(self, now, pose, detections):
         """One camera frame at `now`, the robot at `pose` (x, y, yaw), `detections` [(x, y)] of the

@@ -45,9 +45,9 @@ class CalibrationStrategy(MachineStrategy):
     def read_config(self, brain, table):
         MachineStrategy.read_config(self, brain, table)
         square = self.params.value('square', REQUIRED, list, rule='[x0, y0, side], side > 0')
-        if not (len(square) == 3 and float(square[2]) > 0):
+        if square is not None and not (len(square) == 3 and float(square[2]) > 0):  # None: read to be described
             raise StrategyError('parameter ~calibration/square = %r: give [x0, y0, side] in metres (side > 0)' % (square,))
-        self.square = [float(v) for v in square]
+        self.square = [float(v) for v in square or ()]
         self.rounds = self.params.value('rounds', 1, int, rule='>= 1', check=lambda v: '' if v >= 1 else 'at least 1')
         self.exec_timeout = self.params.positive('exec_timeout', 15.0)
 

@@ -29,7 +29,7 @@ from smart_brain.play.element_tracker import ElementTracker
 from smart_brain.play.task_cost import TaskCost
 from smart_brain.statemachine import CBState, StateMachine, WaitState, clock
 from smart_brain.strategy import StrategyError, register
-from smart_brain.world_view import nearest_first, table_size
+from smart_brain.world_view import nearest_first
 
 log = logging.getLogger('smart_brain.statemachine')
 
@@ -66,16 +66,16 @@ class Match2008Strategy(MachineStrategy):
     # ---------------------------------------------------------------- configuration
     def read_config(self, brain, table):
         MachineStrategy.read_config(self, brain, table)
-        self.configure(self.params, table_size(table),
-                       table.get('elements', []), table.get('score_zones', []))
+        self.configure(self.params, table.size, table.elements, table.score_zones, start_zones=table.start_zones)
         self.harvester_topic = self.params('harvester_topic', '')
         self.vision_topic = self.params('vision_topic', '/hal/vision/elements')
         self.held_topic = self.params('held_topic', '/hal/harvester/held')
 
-    def configure(self, param, table, elements, score_zones, our_colour=None):
+    def configure(self, param, table, elements, score_zones, our_colour=None, start_zones=()):
         """Everything but ROS: `param(key, default)` reads the strategy's block; `table` (length,
         width); `elements` the table's start elements (dicts: kind, at); `score_zones` the
-        table's; `our_colour` (None: from the first pose, the start zone we stand in)."""
+        table's; `our_colour` (None: from the first pose, the zone of `start_zones`, the table's,
+        it stands in)."""
         self.kinds = list(param('ball_kinds', ['ball_red', 'ball_white']))
         self.max_balls = int(param('max_balls', 3))
         self.basket = tuple(float(v) for v in param('basket', [0.25, 1.75, math.pi]))
@@ -89,6 +89,7 @@ class Match2008Strategy(MachineStrategy):
         self.border_margin = float(param('border_margin', 0.08))
         self.table = table
         self.score_zones = score_zones
+        self.start_zones = list(start_zones)
         t = param('tracker', {}) or {}
         m = self.border_margin
         self.trackers = {}
@@ -133,7 +134,7 @@ class Match2008Strategy(MachineStrategy):
         from smart_brain.world_view import WorldView
         topic = self.harvester_topic
         self.harvester = rospy.Publisher(topic, Float64, queue_size=1, latch=True) if topic else None
-        self.world = WorldView(self.vision_topic, border_margin=self.border_margin, on_elements=self._seen)
+        self.world = WorldView(self.table, self.vision_topic, border_margin=self.border_margin, on_elements=self._seen)
         self._subs = [rospy.Subscriber('/brain/match_status', MatchStatus, self._on_status, queue_size=1)]
         if self.held_topic:
             self._subs.append(rospy.Subscriber(self.held_topic, Int32, self._on_held, queue_size=1))
@@ -276,9 +277,8 @@ class Match2008Strategy(MachineStrategy):
         return 'harvest'
 
     def _colour_at(self, pose):
-        import rospy
         from robot_core.start_zone import zone_of
-        return zone_of(pose, rospy.get_param('/table/start_zones', [])) or 'red'
+        return zone_of(pose, self.start_zones) or 'red'
 
     def _note_blocked(self, state):
         r = state.result

@@ -29,7 +29,7 @@ from smart_brain.play.element_tracker import ElementTracker
 from smart_brain.play.task_cost import TaskCost
 from smart_brain.statemachine import CBState, StateMachine, WaitState, clock
 from smart_brain.strategy import StrategyError, register
-from smart_brain.world_view import approach_pose, table_size
+from smart_brain.world_view import approach_pose
 
 log = logging.getLogger('smart_brain.statemachine')
 
@@ -66,8 +66,7 @@ class Match2009Strategy(MachineStrategy):
     # ---------------------------------------------------------------- configuration
     def read_config(self, brain, table):
         MachineStrategy.read_config(self, brain, table)
-        self.configure(self.params, table_size(table),
-                       table.get('score_zones', []))
+        self.configure(self.params, table.size, table.score_zones)
         self.vision_topic = self.params('vision_topic', '/hal/vision/elements')
 
     def _numbers(self, key, value, size):
@@ -122,7 +121,7 @@ class Match2009Strategy(MachineStrategy):
         import rospy
         from smart_brain.msg import MatchStatus
         from smart_brain.world_view import WorldView
-        self.world = WorldView(self.vision_topic, on_elements=self._seen)
+        self.world = WorldView(self.costs.table, self.vision_topic, on_elements=self._seen)
         self._status_sub = rospy.Subscriber('/brain/match_status', MatchStatus, self._on_status, queue_size=1)
 
     def _on_status(self, msg):

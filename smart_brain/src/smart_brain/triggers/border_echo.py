@@ -16,8 +16,7 @@ class BorderEcho(object):
     def __init__(self, length, width, tolerance, map_frame='map', odom_frame='odom', tf_timeout=0.0, buffer=None):
         """`buffer`: a tf2_ros.Buffer to read poses from (tests); by default one fed by a listener.
         `tf_timeout` [s]: how long a lookup may wait for a transform. 0: none; the trigger decides
-        in the reading's callback, and a wait there is reflex latency (a 50 ms wait made the brain's
-        stop take 100 ms)."""
+        in the reading's callback, and a wait there adds to the reflex latency of the brain's stop."""
         import tf2_ros
         import rospy
         self.table = TableGeometry(length, width)

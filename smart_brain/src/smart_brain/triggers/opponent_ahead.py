@@ -2,8 +2,8 @@
 than `distance`.
 
 Config: ~triggers/opponent_ahead, each key described where read() reads it (smart_brain/PARAMETERS.md).
-An echo the table border explains (border_tolerance set; border_echo.py; table size from
-/table/length, /table/width) is not the opponent.
+An echo the table border explains (border_tolerance set; border_echo.py; the table's size from
+the brain's TableSettings) is not the opponent.
 
 Fires -> zero wheel speed at once, the running state is preempted (its driver goal
 cancelled), the handler waits for the way to clear, then the state resumes.
@@ -82,7 +82,8 @@ def read(cfg):
                                  'from the pose, within this, is not the opponent (< 0: off)'),
         clear_time=cfg.get('clear_time', 0.5, meaning='[s] the way is clear this long before the state resumes'),
         max_wait=cfg.get('max_wait', 3.0, meaning='[s] longest wait for the way to clear'),
-        then=decision_param(cfg))
+        then=decision_param(cfg),
+        table=cfg.table.size)
 
 
 def make(s):
@@ -92,9 +93,8 @@ def make(s):
     trig = Trigger(KIND, None, None, debounce=debounce, holdoff=holdoff, priority=2, on_fire=publish_zero)
     border = None
     if border_tolerance >= 0.0:
-        import rospy
         from smart_brain.triggers.border_echo import BorderEcho
-        border = BorderEcho(rospy.get_param('/table/length'), rospy.get_param('/table/width'), border_tolerance)
+        border = BorderEcho(s['table'][0], s['table'][1], border_tolerance)
     watch = RangerWatch(front, rear, distance, max_age, trig.notify, border)
     trig.condition = watch
     trig.handler = WaitClear(watch.near, **handler_args)
