@@ -76,19 +76,21 @@ bool Ipv4Net::contains(uint32_t a) const {
   return (a & mask) == (address & mask);
 }
 
+// a.b.c.d or a.b.c.d/n (n: 1 or 2 digits), the one form the Python reader (network_settings.py) takes.
 Ipv4Net Ipv4Net::parse(const std::string& text) {
   Ipv4Net net;
-  const auto slash = text.find('/');
-  const std::string addr = text.substr(0, slash);
+  const auto first = text.find_first_not_of(" \t"), last = text.find_last_not_of(" \t");
+  const std::string trimmed = first == std::string::npos ? "" : text.substr(first, last - first + 1);
+  const auto slash = trimmed.find('/');
+  const std::string addr = trimmed.substr(0, slash);
   in_addr a{};
   if (inet_pton(AF_INET, addr.c_str(), &a) != 1) throw std::invalid_argument("'" + text + "' is no IPv4 address or network");
   net.address = ntohl(a.s_addr);
   if (slash != std::string::npos) {
-    try {
-      net.prefix = std::stoi(text.substr(slash + 1));
-    } catch (const std::exception&) {
-      net.prefix = -1;
-    }
+    const std::string prefix = trimmed.substr(slash + 1);
+    const bool digits = !prefix.empty() && prefix.size() <= 2 &&
+                        prefix.find_first_not_of("0123456789") == std::string::npos;
+    net.prefix = digits ? std::stoi(prefix) : -1;
     if (net.prefix < 0 || net.prefix > 32) throw std::invalid_argument("'" + text + "': the prefix must be 0..32");
   }
   return net;

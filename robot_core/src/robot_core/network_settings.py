@@ -1,6 +1,6 @@
 """The config's computer/network, read one way for every Python reader: the nodes that judge who is
 the robot (robot_network.RobotNetwork.from_param_server) and the installer (make install-robot,
-robot_tools.install.plan.network_plan). The C++ twin is RobotNetwork::read (command_gate.cpp).
+robot_tools.install.plan.network_plan). The C++ twin is RobotNetwork::fromParams (command_gate.cpp).
 
     settings = read_network(Params.from_server('/computer').block('network'))
     -> {'address': '127.0.0.1', 'master_port': 11311, 'robot_hosts': ['10.0.0.2/32'], 'allow': [...]}
@@ -12,6 +12,7 @@ a.b.c.0/24, no host bits) is a ParameterError of one line naming the parameter.
     python3 -m robot_core.network_settings --describe   # its rows of the parameter tables
 """
 import ipaddress
+import re
 import sys
 
 from robot_core.params import ParameterError, Params, declaration_lines
@@ -20,9 +21,13 @@ COMPONENT = 'computer/network'  # the parameter tables' component name of this b
 NETWORKS = 'IPv4 addresses or networks (a.b.c.d, a.b.c.0/24)'
 
 
+# a.b.c.d or a.b.c.d/n, the one form the C++ twin (Ipv4Net::parse) reads too: no netmask form
+_DOTTED = re.compile(r'^[0-9]{1,3}(\.[0-9]{1,3}){3}(/[0-9]{1,2})?$')
+
+
 def ipv4_network(text):
     """An IPv4 address or CIDR network (no host bits set) as an IPv4Network; ValueError else."""
-    if isinstance(text, bool) or not isinstance(text, (str, int)) or ':' in str(text):
+    if isinstance(text, bool) or not isinstance(text, (str, int)) or not _DOTTED.match(str(text).strip()):
         raise ValueError(text)
     return ipaddress.IPv4Network(str(text).strip(), strict=True)
 

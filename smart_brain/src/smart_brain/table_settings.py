@@ -4,7 +4,7 @@ the strategies (read_config), their world view and the triggers.
 
 The rest of /table (beacons, border height, ...) belongs to other nodes: no typo check here.
 """
-from robot_core.params import Params
+from robot_core.params import ParameterError, Params
 
 NAMESPACE = '/table'
 
@@ -37,4 +37,6 @@ class TableSettings(object):
         `table:`; None or {}: every value at its default)."""
         if isinstance(table, cls):
             return table
+        if table is not None and not isinstance(table, dict):
+            raise ParameterError('parameter %s = %r: must be a dictionary' % (NAMESPACE, table))
         return cls(Params(table or {}, NAMESPACE))

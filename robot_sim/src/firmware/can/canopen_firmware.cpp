@@ -34,6 +34,8 @@ void CanopenFirmware::configure(const robot_core::Params& params) {
   params.describe("bus", "the board's end of the CAN bus: socketcan://IFACE or udp://127.0.0.1:PORT (CAN over UDP), "
                          "the driver's bus in simulation");
   bus_url_ = params.requireString("bus");
+  if (bus_url_.rfind("socketcan://", 0) != 0 && bus_url_.rfind("udp://", 0) != 0)
+    params.check("bus", "'" + bus_url_ + "' must be socketcan://IFACE or udp://127.0.0.1:PORT");
   params.describe("node_id", "the board's CANopen node id, as the driver's block says");
   const int node = params.requireInt("node_id");
   params.requireInRange("node_id", node, 1, 127);
@@ -50,7 +52,6 @@ void CanopenFirmware::configure(const robot_core::Params& params) {
 void CanopenFirmware::start(FirmwareContext& ctx) {
   name_ = ctx.name;
   const std::string url = bus_url_;
-  const uint8_t node = node_id_;
   world_ = ctx.world;
   if (!world_) {
     bench_world_ = std::make_unique<BenchWorld>(bench_ticks_per_s_, bench_range_, bench_closed_);

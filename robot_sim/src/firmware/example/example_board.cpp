@@ -33,8 +33,9 @@ class ExampleBoardFirmware : public Firmware {
     params.describe("endpoint", "udp://HOST:PORT to listen on (the driver's endpoint in simulation)");
     endpoint_ = params.requireString("endpoint");
     const auto colon = endpoint_.rfind(':');
-    if (endpoint_.rfind("udp://", 0) != 0 || colon < 6 || std::atoi(endpoint_.c_str() + colon + 1) <= 0)
-      params.check("endpoint", "must be udp://HOST:PORT");
+    const int port = colon == std::string::npos ? 0 : std::atoi(endpoint_.c_str() + colon + 1);
+    if (endpoint_.rfind("udp://", 0) != 0 || colon < 6 || port < 1 || port > 65535)
+      params.check("endpoint", "must be udp://HOST:PORT (PORT 1..65535)");
     params.describe("dial_period", "[s] the dial's triangle wave period");
     dial_period_ = params.optionalDouble("dial_period", 8.0);
     params.requirePositive("dial_period", dial_period_);

@@ -59,6 +59,7 @@ class RegisterChip : public Firmware, public I2cSlave {
   void readBus(const robot_core::Params& params, int lo, int hi) {
     params.describe("bus", "the simulated I2C bus the chip hangs on: sim:///PATH (the driver's bus in simulation)");
     bus_url_ = params.requireString("bus");
+    simBusPath(bus_url_, params.qualified("bus"));  // the form only: nothing is opened here
     params.describe("address", "the chip's 7-bit address, as the driver's block says");
     const int address = params.requireInt("address");
     params.requireInRange("address", address, lo, hi);

@@ -198,7 +198,7 @@ def document(package, kind, components):
                 table(common) + ['']
         own = {n: d for n, d in components[t].items() if n not in common or t not in members}
         lines += ['## %s' % title(kind, t), ''] + (table(own) if own else
-                                           ['Only the parameters every %s reads.' % family]) + ['']
+                                           ['Only the parameters every %s reads.' % (family or kind)]) + ['']
     return '\n'.join(lines).rstrip() + '\n'
 
 
