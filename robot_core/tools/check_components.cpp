@@ -22,9 +22,11 @@
 
 #include "robot_core/component_host.h"
 #include "robot_core/configurable_component.h"
+#include "robot_core/describe_line.h"
 #include "robot_core/host_settings.h"
 #include "robot_core/params.h"
 #include "robot_core/robot_geometry.h"
+#include "robot_core/unknown_keys.h"
 
 namespace {
 
@@ -54,18 +56,13 @@ int checkBlock(pluginlib::ClassLoader<nodelet::Nodelet>& plugins, const std::str
     return 1;
   }
   int errors = 0;
-  const std::string known = joined(block.askedKeys());
-  for (const std::string& line : block.unasked()) {
-    const std::string name = line.substr(0, line.find(" = "));
-    const std::string value = line.substr(name.size());
-    std::fprintf(stderr, "parameter %s%s: not a parameter of %s type %s (it reads: %s)\n", name.c_str(), value.c_str(),
-                 kind.c_str(), type.c_str(), known.c_str());
+  for (const std::string& line : robot_core::unknownKeys(block, kind + " type " + type)) {
+    std::fprintf(stderr, "%s\n", line.c_str());
     ++errors;
   }
   if (describe && !errors)
     for (const auto& [name, d] : block.declarations())
-      std::printf("%s\t%s\t%s\t%s\t%s\t%s\t%s\n", type.c_str(), name.c_str(), d.type.c_str(),
-                  d.required ? "required" : "optional", d.fallback.c_str(), d.rule.c_str(), d.meaning.c_str());
+      std::printf("%s\n", robot_core::describeLine(type, name, d).c_str());
   return errors;
 }
 
@@ -99,9 +96,7 @@ int main(int argc, char** argv) {
     robot_core::HostSettings::read(host, kind);
     if (describe)
       for (const auto& [name, d] : host.declarations())
-        if (name.find('/') == std::string::npos)
-          std::printf("(host)\t%s\t%s\t%s\t%s\t%s\t%s\n", name.c_str(), d.type.c_str(),
-                      d.required ? "required" : "optional", d.fallback.c_str(), d.rule.c_str(), d.meaning.c_str());
+        if (name.find('/') == std::string::npos) std::printf("%s\n", robot_core::describeLine("(host)", name, d).c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     ++errors;

@@ -1,5 +1,7 @@
 #include "robot_sim/firmware/firmware_check.h"
 
+#include <robot_core/unknown_keys.h>
+
 #include <sstream>
 
 #include "robot_sim/firmware/firmware_registry.h"
@@ -43,11 +45,7 @@ std::vector<std::string> checkEmulatorBlocks(
       }
       emulator->configure(block);
       const std::size_t before = errors.size();
-      for (const std::string& line : block.unasked()) {
-        const std::string name = line.substr(0, line.find(" = "));
-        errors.push_back("parameter " + name + line.substr(name.size()) + ": not a parameter of emulator type " + type +
-                         " (it reads: " + joined(block.askedKeys()) + ")");
-      }
+      for (const std::string& line : robot_core::unknownKeys(block, "emulator type " + type)) errors.push_back(line);
       if (errors.size() == before && declared) declared(type, block);
     } catch (const std::exception& e) {
       errors.push_back(e.what());

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <string>
 
+#include <robot_core/describe_line.h>
 #include <robot_core/params.h>
 
 #include "robot_sim/firmware/firmware_check.h"
@@ -17,9 +18,8 @@
 #include "robot_sim/world/simulator_settings.h"
 
 namespace {
-void print(const char* table, const std::string& name, const robot_core::ParameterDeclaration& d) {
-  std::printf("%s\t%s\t%s\t%s\t%s\t%s\t%s\n", table, name.c_str(), d.type.c_str(), d.required ? "required" : "optional",
-              d.fallback.c_str(), d.rule.c_str(), d.meaning.c_str());
+void print(const std::string& table, const std::string& name, const robot_core::ParameterDeclaration& d) {
+  std::printf("%s\n", robot_core::describeLine(table, name, d).c_str());
 }
 }  // namespace
 
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   if (all.has("sim/firmware")) {  // every emulator's block, also when the world refused a value
     const auto declared = [describe](const std::string& type, const robot_core::Params& block) {
       if (!describe) return;
-      for (const auto& [name, d] : block.declarations()) print(("firmware:" + type).c_str(), name, d);
+      for (const auto& [name, d] : block.declarations()) print("firmware:" + type, name, d);
     };
     for (const std::string& line : robot_sim::checkEmulatorBlocks(all["sim/firmware"], declared)) {
       std::fprintf(stderr, "%s\n", line.c_str());
